@@ -1,0 +1,131 @@
+#include "embree_implicit_geometry.h"
+
+#include <cassert>
+#include <cmath>
+#include <limits>
+
+namespace isotrace::geometry {
+
+namespace {
+
+void boundsCallback(const RTCBoundsFunctionArguments* args) {
+    const auto* surface = static_cast<const ImplicitSurface*>(args->geometryUserPtr);
+    const Box3& box = surface->cells()[args->primID].box;
+    // Round outward so float bounds contain the double-precision cell.
+    args->bounds_o->lower_x = std::nextafter(float(box.lower.x()), -INFINITY);
+    args->bounds_o->lower_y = std::nextafter(float(box.lower.y()), -INFINITY);
+    args->bounds_o->lower_z = std::nextafter(float(box.lower.z()), -INFINITY);
+    args->bounds_o->upper_x = std::nextafter(float(box.upper.x()), INFINITY);
+    args->bounds_o->upper_y = std::nextafter(float(box.upper.y()), INFINITY);
+    args->bounds_o->upper_z = std::nextafter(float(box.upper.z()), INFINITY);
+}
+
+// Marches one cell; on a hit in (tnear, tfar) fills `hit` (object-space
+// normal = field gradient) and returns its t.
+bool marchCell(const RTCRay& ray, const ImplicitSurface& surface, unsigned primID, double& tHit) {
+    if ((ray.mask & surface.rayMask()) == 0) return false;
+    const Vec3 origin(ray.org_x, ray.org_y, ray.org_z);
+    const Vec3 direction(ray.dir_x, ray.dir_y, ray.dir_z);
+    const TraceResult r = surface.intersectCell(primID, origin, direction, ray.tnear, ray.tfar);
+    if (!r.hit) return false;
+    tHit = r.t;
+    return true;
+}
+
+void fillHit(RTCHit& hit, const RTCRay& ray, const ImplicitSurface& surface, const RTCIntersectFunctionNArguments* args,
+             double t) {
+    const Vec3 p = Vec3(ray.org_x, ray.org_y, ray.org_z) + t * Vec3(ray.dir_x, ray.dir_y, ray.dir_z);
+    const SurfaceCell& cell = surface.cells()[args->primID];
+    Vec3 g;
+    surface.cellProgram(cell).valueAndGradient(p, g);
+    hit.Ng_x = float(g.x());
+    hit.Ng_y = float(g.y());
+    hit.Ng_z = float(g.z());
+    hit.u = 0.0f;
+    hit.v = 0.0f;
+    hit.primID = args->primID;
+    hit.geomID = args->geomID;
+    // Under an instance, Embree leaves the instance id to the user geometry.
+    for (unsigned level = 0; level < RTC_MAX_INSTANCE_LEVEL_COUNT; ++level)
+        hit.instID[level] = args->context->instID[level];
+}
+
+void intersectCallback(const RTCIntersectFunctionNArguments* args) {
+    assert(args->N == 1);
+    if (!args->valid[0]) return;
+    const auto& surface = *static_cast<const ImplicitSurface*>(args->geometryUserPtr);
+    RTCRayHit* rayhit = reinterpret_cast<RTCRayHit*>(args->rayhit);
+    RTCRay& ray = rayhit->ray;
+    double t;
+    if (!marchCell(ray, surface, args->primID, t)) return;
+
+    RTCHit candidate;
+    fillHit(candidate, ray, surface, args, t);
+    const float oldTfar = ray.tfar;
+    ray.tfar = float(t);
+    int valid = -1;
+    RTCFilterFunctionNArguments filterArgs;
+    filterArgs.valid = &valid;
+    filterArgs.geometryUserPtr = args->geometryUserPtr;
+    filterArgs.context = args->context;
+    filterArgs.ray = reinterpret_cast<RTCRayN*>(&ray);
+    filterArgs.hit = reinterpret_cast<RTCHitN*>(&candidate);
+    filterArgs.N = 1;
+    rtcFilterIntersection(args, &filterArgs);
+    if (valid == -1) rayhit->hit = candidate;
+    else ray.tfar = oldTfar;
+}
+
+void occludedCallback(const RTCOccludedFunctionNArguments* args) {
+    assert(args->N == 1);
+    if (!args->valid[0]) return;
+    const auto& surface = *static_cast<const ImplicitSurface*>(args->geometryUserPtr);
+    RTCRay* ray = reinterpret_cast<RTCRay*>(args->ray);
+    double t;
+    if (!marchCell(*ray, surface, args->primID, t)) return;
+
+    RTCHit candidate{};
+    // fillHit takes intersect arguments; occlusion fills the hit by hand.
+    const Vec3 p = Vec3(ray->org_x, ray->org_y, ray->org_z) + t * Vec3(ray->dir_x, ray->dir_y, ray->dir_z);
+    Vec3 g;
+    surface.cellProgram(surface.cells()[args->primID]).valueAndGradient(p, g);
+    candidate.Ng_x = float(g.x());
+    candidate.Ng_y = float(g.y());
+    candidate.Ng_z = float(g.z());
+    candidate.primID = args->primID;
+    candidate.geomID = args->geomID;
+    for (unsigned level = 0; level < RTC_MAX_INSTANCE_LEVEL_COUNT; ++level)
+        candidate.instID[level] = args->context->instID[level];
+    const float oldTfar = ray->tfar;
+    ray->tfar = float(t);
+    int valid = -1;
+    RTCFilterFunctionNArguments filterArgs;
+    filterArgs.valid = &valid;
+    filterArgs.geometryUserPtr = args->geometryUserPtr;
+    filterArgs.context = args->context;
+    filterArgs.ray = reinterpret_cast<RTCRayN*>(ray);
+    filterArgs.hit = reinterpret_cast<RTCHitN*>(&candidate);
+    filterArgs.N = 1;
+    rtcFilterOcclusion(args, &filterArgs);
+    // An accepted occluder ends traversal: Embree reads tfar = -inf as "hit".
+    ray->tfar = valid == -1 ? -std::numeric_limits<float>::infinity() : oldTfar;
+}
+
+}  // namespace
+
+unsigned attachImplicitSurface(RTCDevice device, RTCScene scene, ImplicitSurface& surface, unsigned mask) {
+    RTCGeometry geometry = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_USER);
+    surface.setRayMask(mask);
+    rtcSetGeometryUserPrimitiveCount(geometry, static_cast<unsigned>(surface.cells().size()));
+    rtcSetGeometryUserData(geometry, &surface);
+    rtcSetGeometryBoundsFunction(geometry, boundsCallback, nullptr);
+    rtcSetGeometryIntersectFunction(geometry, intersectCallback);
+    rtcSetGeometryOccludedFunction(geometry, occludedCallback);
+    rtcSetGeometryMask(geometry, mask);
+    rtcCommitGeometry(geometry);
+    const unsigned id = rtcAttachGeometry(scene, geometry);
+    rtcReleaseGeometry(geometry);
+    return id;
+}
+
+}  // namespace isotrace::geometry

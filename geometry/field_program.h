@@ -1,0 +1,116 @@
+// A field compiled into a flat instruction list (a "tape"): leaves first,
+// operators after their operands, the root last. One loop answers each of the
+// four questions a field must answer: value, gradient, the range of values
+// over a box, and a bound on the gradient's length over a box. Transforms are
+// pushed into the leaves at compile time, so operators never see them.
+#pragma once
+
+#include <cstdint>
+#include <variant>
+#include <vector>
+
+#include "bounding_box.h"
+#include "fields/blobby.h"
+#include "fields/box.h"
+#include "fields/convolution.h"
+#include "fields/ellipsoid.h"
+#include "fields/plane.h"
+#include "fields/polyline_distance.h"
+#include "fields/polynomial.h"
+#include "fields/revolved_profile.h"
+#include "fields/sphere.h"
+#include "fields/torus.h"
+
+namespace isotrace::geometry {
+
+using LeafShape = std::variant<SphereField, BoxField, TorusField, PlaneField, EllipsoidField, RevolvedProfileField,
+                               PolylineDistanceField, PolynomialField, BlobbyField, ConvolutionField>;
+
+/// Where a leaf sits: its shape is evaluated at leafFromWorld(p) and its value
+/// multiplied by valueScale (the smallest singular value of the accumulated
+/// scaling, which keeps a distance field's Lipschitz constant at 1).
+struct LeafPlacement {
+    Mat3 linear = Mat3::Identity();
+    Vec3 offset = Vec3::Zero();
+    double valueScale = 1.0;
+    double gradientScale = 1.0;  ///< valueScale * ||linear||_2
+    bool identity = true;
+
+    Vec3 leafFromWorld(const Vec3& p) const { return identity ? p : Vec3(linear * p + offset); }
+    /// Placement of a child whose frame is given by parent = A child + t
+    /// with value scale sigma (see FieldParser's transform).
+    LeafPlacement composed(const Mat3& childFromParentLinear, const Vec3& childFromParentOffset,
+                           double sigma) const;
+};
+
+struct FieldLeaf {
+    LeafShape shape;
+    LeafPlacement placement;
+};
+
+enum class FieldOp : uint8_t {
+    Leaf,        ///< a: leaf index
+    Min,         ///< union
+    Max,         ///< intersection
+    Negate,      ///< complement
+    SmoothMin,   ///< parameter: blend radius k (quadratic polynomial smooth minimum)
+    SmoothMax,   ///< parameter: blend radius k
+    AddConstant  ///< parameter added (offsets: -distance grows the solid)
+};
+
+struct FieldInstruction {
+    FieldOp op = FieldOp::Leaf;
+    uint32_t a = 0, b = 0;
+    double parameter = 0.0;
+};
+
+/// Range of values and gradient bound of a field over one box.
+struct BoxEstimate {
+    Interval range;
+    double lipschitz = 0.0;
+};
+
+class FieldProgram {
+public:
+    FieldProgram() = default;
+
+    // Construction (used by the parser and by tests). Returns the slot written.
+    uint32_t addLeaf(LeafShape shape, const LeafPlacement& placement = {});
+    uint32_t addUnary(FieldOp op, uint32_t a, double parameter = 0.0);
+    uint32_t addBinary(FieldOp op, uint32_t a, uint32_t b, double parameter = 0.0);
+    /// The box outside which the field is positive. Computed by addX; a
+    /// description may narrow it.
+    void setBounds(const Box3& b) { bounds_ = b; }
+    /// Narrows the bounds of one slot's field (a description's "bounds").
+    void narrowSlotBounds(uint32_t slot, const Box3& b);
+
+    double value(const Vec3& p) const;
+    double valueAndGradient(const Vec3& p, Vec3& gradient) const;
+    BoxEstimate estimate(const Box3& box) const;
+    /// A program equal to this one everywhere inside `box`, without the
+    /// operands that cannot matter there (dominated CSG operands, smooth
+    /// blends whose operands are farther apart than the blend radius, blobs
+    /// whose support does not reach the box).
+    FieldProgram prunedTo(const Box3& box) const;
+
+    const Box3& bounds() const { return bounds_; }
+    bool empty() const { return code_.empty(); }
+    size_t instructionCount() const { return code_.size(); }
+    /// Node evaluations per point: instructions plus the terms inside leaves
+    /// (blobs, segments), the cost measure of the benchmarks.
+    size_t evaluationCost() const { return evaluationCost_; }
+    const std::vector<FieldInstruction>& instructions() const { return code_; }
+    const std::vector<FieldLeaf>& leaves() const { return leaves_; }
+
+private:
+    void estimateSlots(const Box3& box, std::vector<BoxEstimate>& slots) const;
+    uint32_t push(const FieldInstruction& instruction, const Box3& slotBounds);
+
+    std::vector<FieldInstruction> code_;
+    std::vector<FieldLeaf> leaves_;
+    std::vector<Box3> slotBounds_;  ///< bounds of each slot's field, for the root's bounds
+    Box3 bounds_ = Box3::everything();
+    size_t evaluationCost_ = 0;
+};
+
+}  // namespace isotrace::geometry

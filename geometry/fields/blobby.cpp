@@ -1,0 +1,124 @@
+#include "blobby.h"
+
+#include <cmath>
+
+namespace isotrace::geometry {
+
+namespace {
+constexpr double kBlinnCutExponent = 36.0;  // e^-36 ~ 2e-16: below double round-off of k(0) = 1
+
+// Peak of |k'(a)| for Wyvill's kernel: root of 120 a^4 - 204 a^2 + 44 in (0, 1).
+const double kSoftObjectPeak = std::sqrt((204.0 - std::sqrt(204.0 * 204.0 - 4.0 * 120.0 * 44.0)) / 240.0);
+}  // namespace
+
+double BlobbyField::support() const {
+    return kernel == BlobKernel::Blinn ? std::sqrt(kBlinnCutExponent / blobbiness) : 1.0;
+}
+
+double BlobbyField::kernelValue(double a) const {
+    switch (kernel) {
+        case BlobKernel::Blinn: {
+            const double cut = std::exp(-kBlinnCutExponent);
+            return std::max(0.0, std::exp(-blobbiness * a * a) - cut) / (1.0 - cut);
+        }
+        case BlobKernel::Metaball:
+            if (a <= 1.0 / 3.0) return 1.0 - 3.0 * a * a;
+            if (a <= 1.0) return 1.5 * (1.0 - a) * (1.0 - a);
+            return 0.0;
+        case BlobKernel::SoftObject: {
+            if (a >= 1.0) return 0.0;
+            const double a2 = a * a, a4 = a2 * a2, a6 = a4 * a2;
+            return 1.0 - (4.0 / 9.0) * a6 + (17.0 / 9.0) * a4 - (22.0 / 9.0) * a2;
+        }
+    }
+    return 0.0;
+}
+
+double BlobbyField::kernelSlope(double a) const {
+    switch (kernel) {
+        case BlobKernel::Blinn: {
+            if (a >= support()) return 0.0;
+            const double cut = std::exp(-kBlinnCutExponent);
+            return -2.0 * blobbiness * a * std::exp(-blobbiness * a * a) / (1.0 - cut);
+        }
+        case BlobKernel::Metaball:
+            if (a <= 1.0 / 3.0) return -6.0 * a;
+            if (a <= 1.0) return -3.0 * (1.0 - a);
+            return 0.0;
+        case BlobKernel::SoftObject: {
+            if (a >= 1.0) return 0.0;
+            const double a2 = a * a, a3 = a2 * a, a5 = a3 * a2;
+            return -(24.0 / 9.0) * a5 + (68.0 / 9.0) * a3 - (44.0 / 9.0) * a;
+        }
+    }
+    return 0.0;
+}
+
+double BlobbyField::maxKernelSlope(double a0, double a1) const {
+    // |k'| rises to one peak and falls (each kernel), so the maximum over an
+    // interval is at the peak when it lies inside, else at an end.
+    double peak = 0.0;
+    switch (kernel) {
+        case BlobKernel::Blinn: peak = 1.0 / std::sqrt(2.0 * blobbiness); break;
+        case BlobKernel::Metaball: peak = 1.0 / 3.0; break;
+        case BlobKernel::SoftObject: peak = kSoftObjectPeak; break;
+    }
+    if (a0 <= peak && peak <= a1) return std::abs(kernelSlope(peak));
+    return std::max(std::abs(kernelSlope(a0)), std::abs(kernelSlope(a1)));
+}
+
+double BlobbyField::value(const Vec3& p) const {
+    double sum = 0.0;
+    for (const Blob& b : blobs) sum += b.weight * kernelValue((p - b.center).norm() / b.radius);
+    return threshold - sum;
+}
+
+double BlobbyField::valueAndGradient(const Vec3& p, Vec3& gradient) const {
+    double sum = 0.0;
+    gradient = Vec3::Zero();
+    for (const Blob& b : blobs) {
+        const Vec3 d = p - b.center;
+        const double r = d.norm();
+        const double a = r / b.radius;
+        sum += b.weight * kernelValue(a);
+        if (r > 0) gradient -= (b.weight * kernelSlope(a) / (b.radius * r)) * d;
+    }
+    return threshold - sum;
+}
+
+Interval BlobbyField::range(const Box3& box) const {
+    Interval sum(0.0);
+    for (const Blob& b : blobs) {
+        const Interval r = box.distanceRange(b.center);
+        // Kernels decrease with distance.
+        sum += b.weight * Interval(kernelValue(r.hi / b.radius), kernelValue(r.lo / b.radius));
+    }
+    return Interval(threshold) - sum;
+}
+
+double BlobbyField::lipschitz(const Box3& box) const {
+    double sum = 0.0;
+    for (const Blob& b : blobs) {
+        const Interval r = box.distanceRange(b.center);
+        sum += std::abs(b.weight) * maxKernelSlope(r.lo / b.radius, r.hi / b.radius) / b.radius;
+    }
+    return sum;
+}
+
+Box3 BlobbyField::bounds() const {
+    // With T > 0 the field is positive wherever no positive blob reaches.
+    if (threshold <= 0) return Box3::everything();
+    Box3 box;
+    for (const Blob& b : blobs)
+        if (b.weight > 0) box.extend(Box3::around(b.center, b.radius * support()));
+    return box;
+}
+
+BlobbyField BlobbyField::prunedTo(const Box3& box) const {
+    BlobbyField out{kernel, threshold, blobbiness, {}};
+    for (const Blob& b : blobs)
+        if (box.distanceRange(b.center).lo < b.radius * support()) out.blobs.push_back(b);
+    return out;
+}
+
+}  // namespace isotrace::geometry

@@ -1,0 +1,62 @@
+// Algebraic surfaces: a polynomial in x, y, z given by its terms (quadrics
+// and the classic presets are polynomials too). Values are not distances;
+// range and Lipschitz bounds come from interval arithmetic on the terms and
+// on the terms of the three partial derivatives.
+#pragma once
+
+#include <array>
+#include <vector>
+
+#include "distance_field_bounds.h"
+
+namespace isotrace::geometry {
+
+struct PolynomialTerm {
+    double coefficient = 0.0;
+    std::array<int, 3> powers{0, 0, 0};
+};
+
+class Polynomial {
+public:
+    static constexpr int kMaxDegree = 24;
+
+    Polynomial() = default;
+    explicit Polynomial(std::vector<PolynomialTerm> terms);  // merges like terms
+
+    static Polynomial constant(double c);
+    static Polynomial variable(int axis);  ///< x, y or z
+
+    const std::vector<PolynomialTerm>& terms() const { return terms_; }
+    int degree() const;
+    Polynomial derivative(int axis) const;
+
+    friend Polynomial operator+(const Polynomial& a, const Polynomial& b);
+    friend Polynomial operator-(const Polynomial& a, const Polynomial& b);
+    friend Polynomial operator*(const Polynomial& a, const Polynomial& b);
+    friend Polynomial operator*(double s, const Polynomial& a);
+    Polynomial power(int n) const;
+
+    double evaluate(const Vec3& p) const;
+    Interval evaluate(const Box3& box) const;
+
+private:
+    std::vector<PolynomialTerm> terms_;
+    std::array<int, 3> maxPower_{0, 0, 0};  ///< highest power of each variable
+};
+
+struct PolynomialField {
+    Polynomial polynomial;
+    std::array<Polynomial, 3> partials;
+    Box3 domain;  ///< the surface is sought inside this box only
+
+    PolynomialField() = default;
+    PolynomialField(Polynomial p, const Box3& domain);
+
+    double value(const Vec3& p) const { return polynomial.evaluate(p); }
+    double valueAndGradient(const Vec3& p, Vec3& gradient) const;
+    Interval range(const Box3& box) const { return polynomial.evaluate(box); }
+    double lipschitz(const Box3& box) const;
+    Box3 bounds() const { return domain; }
+};
+
+}  // namespace isotrace::geometry

@@ -1,0 +1,95 @@
+#include "implicit_surface.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+namespace isotrace::geometry {
+
+TraceCounters& threadTraceCounters() {
+    thread_local TraceCounters counters;
+    return counters;
+}
+
+ImplicitSurface::ImplicitSurface(FieldProgram field, const ImplicitSurfaceOptions& options)
+    : field_(std::move(field)) {
+    bounds_ = field_.bounds();
+    if (bounds_.isEmpty()) {
+        // No solid anywhere: a surface with no cells.
+        settings_.epsilon = options.relativeEpsilon;
+        return;
+    }
+    if (!bounds_.isFinite())
+        throw std::invalid_argument("the field is unbounded; give it \"bounds\" to render or polygonize it");
+    const double diagonal = bounds_.extent().norm();
+    settings_.epsilon = options.relativeEpsilon * diagonal;
+    // Pad the root box so that surfaces touching the bounds lie strictly inside.
+    const Box3 root = bounds_.expanded(1e-4 * diagonal);
+    globalLipschitz_ = field_.estimate(root).lipschitz;
+
+    // Refine level by level, keeping only cells whose range holds zero.
+    std::vector<Box3> level{root};
+    for (int depth = 0; depth < options.maxDepth; ++depth) {
+        std::vector<Box3> next;
+        for (const Box3& box : level) {
+            const Vec3 c = box.center();
+            for (int i = 0; i < 8; ++i) {
+                Box3 child(box.corner(i).cwiseMin(c), box.corner(i).cwiseMax(c));
+                if (field_.estimate(child).range.containsZero()) next.push_back(child);
+            }
+        }
+        if (next.size() > options.cellBudget) break;
+        level = std::move(next);
+    }
+
+    for (const Box3& box : level) {
+        if (!field_.estimate(box).range.containsZero()) continue;
+        SurfaceCell cell;
+        cell.box = box;
+        FieldProgram program = options.pruneCells ? field_.prunedTo(box) : field_;
+        cell.lipschitz = options.globalLipschitzOnly ? globalLipschitz_ : program.estimate(box).lipschitz;
+        cell.program = static_cast<uint32_t>(programs_.size());
+        programs_.push_back(std::move(program));
+        cells_.push_back(cell);
+    }
+}
+
+TraceResult ImplicitSurface::intersectCell(uint32_t index, const Vec3& origin, const Vec3& direction, double tNear,
+                                           double tFar) const {
+    const SurfaceCell& cell = cells_[index];
+    double t0 = tNear, t1 = tFar;
+    if (!clipRayToBox(cell.box, origin, direction, t0, t1)) return {};
+    const FieldProgram& program = programs_[cell.program];
+    TraceResult r = sphereTrace(program, cell.lipschitz, origin, direction, t0, t1, settings_);
+    TraceCounters& counters = threadTraceCounters();
+    ++counters.marches;
+    counters.steps += r.steps;
+    counters.evaluations += r.evaluations;
+    // Hits exactly at tNear belong to the caller's previous surface.
+    if (r.hit && !(r.t > tNear && r.t < tFar)) r.hit = false;
+    return r;
+}
+
+TraceResult ImplicitSurface::intersect(const Vec3& origin, const Vec3& direction, double tNear, double tFar) const {
+    TraceResult best;
+    best.t = tFar;
+    int steps = 0;
+    for (uint32_t i = 0; i < cells_.size(); ++i) {
+        const TraceResult r = intersectCell(i, origin, direction, tNear, best.t);
+        steps += r.steps;
+        if (r.hit && r.t < best.t) best = r;
+    }
+    best.steps = steps;
+    if (!best.hit) best.t = 0;
+    return best;
+}
+
+Vec3 ImplicitSurface::normal(const Vec3& p) const {
+    Vec3 g;
+    field_.valueAndGradient(p, g);
+    const double n = g.norm();
+    return n > 0 ? Vec3(g / n) : Vec3(0, 1, 0);
+}
+
+}  // namespace isotrace::geometry
