@@ -1,0 +1,84 @@
+#include "image_output.h"
+
+#include <OpenImageIO/imagebuf.h>
+#include <OpenImageIO/imageio.h>
+#include <cmath>
+#include <filesystem>
+#include <stdexcept>
+#include <unistd.h>
+
+namespace isotrace {
+
+namespace {
+
+std::string temporaryPathFor(const std::string& path) {
+    // Same folder (rename stays atomic), same extension (OIIO picks the format by it).
+    const std::filesystem::path p(path);
+    return (p.parent_path() / ("." + p.stem().string() + ".partial-" + std::to_string(getpid()) + p.extension().string()))
+        .string();
+}
+
+void writeBuffer(const std::string& path, const OIIO::ImageSpec& spec, OIIO::TypeDesc memoryType, const void* pixels) {
+    const std::string temporary = temporaryPathFor(path);
+    auto out = OIIO::ImageOutput::create(path);
+    if (!out) throw std::runtime_error(path + ": cannot write this image format (" + OIIO::geterror() + ")");
+    bool ok = out->open(temporary, spec) && out->write_image(memoryType, pixels) && out->close();
+    if (!ok) {
+        const std::string message = out->geterror();
+        std::filesystem::remove(temporary);
+        throw std::runtime_error(path + ": cannot write image: " + message);
+    }
+    std::error_code ec;
+    std::filesystem::rename(temporary, path, ec);
+    if (ec) {
+        std::filesystem::remove(temporary);
+        throw std::runtime_error(path + ": cannot move the finished image into place: " + ec.message());
+    }
+}
+
+}  // namespace
+
+void writeImage(const std::string& path, const Image& image, const ImageMetadata& metadata, bool half) {
+    OIIO::ImageSpec spec(image.width, image.height, 3, half ? OIIO::TypeDesc::HALF : OIIO::TypeDesc::FLOAT);
+    spec.channelnames = {"R", "G", "B"};
+    for (const auto& [name, value] : metadata.strings) spec.attribute(name, value);
+    writeBuffer(path, spec, OIIO::TypeDesc::FLOAT, image.rgb.data());  // OIIO converts to half if asked
+}
+
+void writePreviewPng(const std::string& path, const Image& image, double exposure) {
+    const double scale = std::exp2(exposure);
+    std::vector<unsigned char> bytes(image.rgb.size());
+    for (size_t i = 0; i < image.rgb.size(); ++i) {
+        double v = std::clamp(double(image.rgb[i]) * scale, 0.0, 1.0);
+        if (std::isnan(v)) v = 0.0;
+        // sRGB transfer function.
+        v = v <= 0.0031308 ? 12.92 * v : 1.055 * std::pow(v, 1.0 / 2.4) - 0.055;
+        bytes[i] = static_cast<unsigned char>(std::lround(v * 255.0));
+    }
+    OIIO::ImageSpec spec(image.width, image.height, 3, OIIO::TypeDesc::UINT8);
+    writeBuffer(path, spec, OIIO::TypeDesc::UINT8, bytes.data());
+}
+
+std::string previewPathFor(const std::string& exrPath) {
+    std::filesystem::path p(exrPath);
+    p.replace_extension(".png");
+    return p.string();
+}
+
+Image readImage(const std::string& path) {
+    auto in = OIIO::ImageInput::open(path);
+    if (!in) throw std::runtime_error(path + ": cannot read image: " + OIIO::geterror());
+    const OIIO::ImageSpec& spec = in->spec();
+    Image image;
+    image.width = spec.width;
+    image.height = spec.height;
+    std::vector<float> all(size_t(spec.width) * spec.height * spec.nchannels);
+    if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, all.data()))
+        throw std::runtime_error(path + ": cannot read image: " + in->geterror());
+    image.rgb.resize(size_t(spec.width) * spec.height * 3);
+    for (size_t p = 0; p < size_t(spec.width) * spec.height; ++p)
+        for (int c = 0; c < 3; ++c) image.rgb[3 * p + c] = all[p * spec.nchannels + std::min(c, spec.nchannels - 1)];
+    return image;
+}
+
+}  // namespace isotrace

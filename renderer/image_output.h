@@ -1,0 +1,28 @@
+// Writing renders: scene-referred linear EXR with metadata, and an sRGB PNG
+// preview. Files appear only when complete (written under a temporary name
+// in the same folder, then renamed).
+#pragma once
+
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "render.h"
+
+namespace isotrace {
+
+struct ImageMetadata {
+    std::vector<std::pair<std::string, std::string>> strings;  ///< name, value
+};
+
+/// Writes any format OpenImageIO knows from the extension (EXR: float or
+/// half RGB). Throws std::runtime_error naming the path on failure.
+void writeImage(const std::string& path, const Image& image, const ImageMetadata& metadata, bool half);
+/// 8-bit sRGB preview, exposure in stops.
+void writePreviewPng(const std::string& path, const Image& image, double exposure);
+/// The preview's name next to an output: out.exr -> out.png.
+std::string previewPathFor(const std::string& exrPath);
+/// Reads an image as RGB float (first three channels); throws naming the path.
+Image readImage(const std::string& path);
+
+}  // namespace isotrace

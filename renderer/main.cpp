@@ -1,0 +1,128 @@
+// isotrace: the command line. Exit status 0 is success, 1 a comparison over
+// its threshold, 2 bad input or usage.
+#include <CLI/CLI.hpp>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <sstream>
+
+#include "geometry/input_error.h"
+#include "image_output.h"
+#include "render.h"
+#include "scene_loader.h"
+#include "version.h"
+
+using namespace isotrace;
+
+namespace {
+
+constexpr int kExitBadInput = 2;
+
+struct RenderCommand {
+    std::string scene;
+    std::string output;
+    int spp = 0, threads = 0, width = 0, height = 0;
+    uint64_t seed = 0;
+    bool quiet = false, half = false, noPreview = false;
+    double exposure = 0.0;
+    std::string as;
+};
+
+std::string describeCamera(const CameraSettings& c) {
+    std::ostringstream s;
+    s << "perspective from (" << c.from.transpose() << ") to (" << c.to.transpose() << ") up (" << c.up.transpose()
+      << ") fov " << c.verticalFovDegrees << " aperture " << c.aperture << " focus " << c.focusDistance;
+    return s.str();
+}
+
+void checkWritableFolder(const std::string& path) {
+    const std::filesystem::path parent = std::filesystem::absolute(path).parent_path();
+    if (!std::filesystem::is_directory(parent))
+        throw geometry::InputError(path, "", "the output folder " + parent.string() + " does not exist");
+}
+
+int runRender(const RenderCommand& cmd) {
+    SceneOverrides overrides;
+    overrides.width = cmd.width;
+    overrides.height = cmd.height;
+    overrides.samplesPerPixel = cmd.spp;
+    if (cmd.as == "mesh") overrides.fieldMode = SceneOverrides::FieldMode::Mesh;
+    if (cmd.as == "implicit") overrides.fieldMode = SceneOverrides::FieldMode::Implicit;
+    const std::string output =
+        cmd.output.empty() ? std::filesystem::path(cmd.scene).stem().string() + ".exr" : cmd.output;
+    checkWritableFolder(output);
+
+    std::unique_ptr<Scene> scene = loadScene(cmd.scene, overrides);
+    RenderOptions options;
+    options.threads = cmd.threads;
+    options.seed = cmd.seed;
+    options.quiet = cmd.quiet;
+    RenderStatistics stats;
+    const Image image = render(*scene, options, &stats);
+
+    ImageMetadata meta;
+    meta.strings = {{"Software", std::string("isotrace ") + kVersion},
+                    {"isotrace:scene", cmd.scene},
+                    {"isotrace:spp", std::to_string(scene->film.samplesPerPixel)},
+                    {"isotrace:seed", std::to_string(cmd.seed)},
+                    {"isotrace:render_seconds", std::to_string(stats.seconds)},
+                    {"isotrace:camera", describeCamera(scene->camera)},
+                    {"isotrace:integrator",
+                     scene->integrator.type == IntegratorSettings::Type::Path ? "path" : "whitted"}};
+    writeImage(output, image, meta, cmd.half);
+    if (!cmd.noPreview) writePreviewPng(previewPathFor(output), image, cmd.exposure);
+    if (stats.nonFiniteSamples > 0)
+        std::fprintf(stderr, "warning: %lld samples had non-finite radiance and were discarded\n", stats.nonFiniteSamples);
+    if (!cmd.quiet)
+        std::fprintf(stderr, "wrote %s (%dx%d, %d spp) in %.2fs\n", output.c_str(), image.width, image.height,
+                     scene->film.samplesPerPixel, stats.seconds);
+    return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    CLI::App app{"isotrace: a physically based renderer for implicit surfaces"};
+    app.set_version_flag("--version", std::string("isotrace ") + kVersion);
+    app.require_subcommand(1);
+
+    RenderCommand render;
+    CLI::App* renderApp = app.add_subcommand("render", "Render a scene file to an EXR (and a PNG preview)");
+    renderApp->add_option("scene", render.scene, "Scene file (JSON)")->required();
+    renderApp->add_option("-o,--output", render.output, "Output image (default: the scene's name with .exr)");
+    renderApp->add_option("--spp", render.spp, "Samples per pixel (overrides the scene)")->check(CLI::Range(1, 1 << 20));
+    renderApp->add_option("--threads", render.threads, "Worker threads (default: all cores)")->check(CLI::Range(1, 4096));
+    renderApp->add_option("--seed", render.seed, "Random seed");
+    renderApp->add_option("--width", render.width, "Image width (overrides the scene)")->check(CLI::Range(1, 1 << 16));
+    renderApp->add_option("--height", render.height, "Image height (overrides the scene)")->check(CLI::Range(1, 1 << 16));
+    renderApp->add_option("--exposure", render.exposure, "Exposure of the PNG preview, in stops");
+    renderApp->add_option("--as", render.as, "Render every field object as a mesh or as an implicit")
+        ->check(CLI::IsMember({"mesh", "implicit"}));
+    renderApp->add_flag("--half", render.half, "Write half-float EXR");
+    renderApp->add_flag("--no-preview", render.noPreview, "Do not write the PNG preview");
+    renderApp->add_flag("-q,--quiet", render.quiet, "No progress output");
+
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::CallForHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::CallForAllHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::CallForVersion& e) {
+        return app.exit(e);
+    } catch (const CLI::ParseError& e) {
+        app.exit(e);
+        return kExitBadInput;
+    }
+
+    try {
+        if (*renderApp) return runRender(render);
+    } catch (const geometry::InputError& e) {
+        std::fprintf(stderr, "error: %s\n", e.what());
+        return kExitBadInput;
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "error: %s\n", e.what());
+        return kExitBadInput;
+    }
+    return 0;
+}

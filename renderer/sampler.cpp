@@ -1,0 +1,81 @@
+#include "sampler.h"
+
+#include <array>
+
+namespace isotrace {
+
+namespace {
+
+inline uint32_t reverseBits(uint32_t v) {
+    v = ((v >> 1) & 0x55555555u) | ((v & 0x55555555u) << 1);
+    v = ((v >> 2) & 0x33333333u) | ((v & 0x33333333u) << 2);
+    v = ((v >> 4) & 0x0F0F0F0Fu) | ((v & 0x0F0F0F0Fu) << 4);
+    v = ((v >> 8) & 0x00FF00FFu) | ((v & 0x00FF00FFu) << 8);
+    return (v >> 16) | (v << 16);
+}
+
+// Laine-Karras style hash in which every bit is changed only by less
+// significant bits; applied to reversed bits it is a nested uniform scramble.
+inline uint32_t laineKarrasPermutation(uint32_t x, uint32_t seed) {
+    x += seed;
+    x ^= x * 0x6c50b47cu;
+    x ^= x * 0xb82f1e52u;
+    x ^= x * 0xc7afe638u;
+    x ^= x * 0x8d22f6e6u;
+    return x;
+}
+
+// Direction numbers of Sobol dimension 1 (primitive polynomial x + 1):
+// v_1 = 1/2, v_k = v_{k-1} xor v_{k-1} / 2.
+const std::array<uint32_t, 32>& dimension1Directions() {
+    static const std::array<uint32_t, 32> v = [] {
+        std::array<uint32_t, 32> d{};
+        d[0] = 1u << 31;
+        for (int k = 1; k < 32; ++k) d[k] = d[k - 1] ^ (d[k - 1] >> 1);
+        return d;
+    }();
+    return v;
+}
+
+constexpr double kToUnit = 1.0 / 4294967296.0;  // 2^-32
+constexpr double kOneMinusEpsilon = 0x1.fffffffffffffp-1;
+
+inline double toUnit(uint32_t v) { return std::min(v * kToUnit, kOneMinusEpsilon); }
+
+}  // namespace
+
+uint32_t owenScramble(uint32_t v, uint32_t seed) { return reverseBits(laineKarrasPermutation(reverseBits(v), seed)); }
+
+uint32_t sobolDimension0(uint32_t index) { return reverseBits(index); }
+
+uint32_t sobolDimension1(uint32_t index) {
+    const auto& v = dimension1Directions();
+    uint32_t result = 0;
+    for (int k = 0; index; ++k, index >>= 1)
+        if (index & 1u) result ^= v[k];
+    return result;
+}
+
+double Sampler::get1D() {
+    const uint32_t d = dimension_++;
+    const uint64_t h = hashValues(pixelHash_, d);
+    if (type_ == SamplerType::Independent) return toUnit(static_cast<uint32_t>(hashValues(h, sampleIndex_) >> 32));
+    const uint32_t index = owenScramble(sampleIndex_, static_cast<uint32_t>(h));
+    return toUnit(owenScramble(sobolDimension0(index), static_cast<uint32_t>(h >> 32)));
+}
+
+Eigen::Vector2d Sampler::get2D() {
+    const uint32_t d = dimension_;
+    dimension_ += 2;
+    const uint64_t h = hashValues(pixelHash_, d);
+    if (type_ == SamplerType::Independent) {
+        const uint64_t r = hashValues(h, sampleIndex_);
+        return {toUnit(static_cast<uint32_t>(r >> 32)), toUnit(static_cast<uint32_t>(r))};
+    }
+    const uint32_t index = owenScramble(sampleIndex_, static_cast<uint32_t>(h));
+    const uint64_t h2 = mixBits(h);
+    return {toUnit(owenScramble(sobolDimension0(index), static_cast<uint32_t>(h >> 32))),
+            toUnit(owenScramble(sobolDimension1(index), static_cast<uint32_t>(h2)))};
+}
+
+}  // namespace isotrace

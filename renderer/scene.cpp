@@ -1,0 +1,136 @@
+#include "scene.h"
+
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include "geometry/embree_implicit_geometry.h"
+
+namespace isotrace {
+
+namespace {
+void embreeError(void*, RTCError code, const char* message) {
+    throw std::runtime_error(std::string("Embree error ") + std::to_string(int(code)) + ": " + (message ? message : ""));
+}
+}  // namespace
+
+Scene::Scene() {
+    device_ = rtcNewDevice(nullptr);
+    if (!device_) throw std::runtime_error("cannot create an Embree device");
+    rtcSetDeviceErrorFunction(device_, embreeError, nullptr);
+}
+
+Scene::~Scene() {
+    for (RTCScene s : shapeScenes_) rtcReleaseScene(s);
+    if (top_) rtcReleaseScene(top_);
+    rtcReleaseDevice(device_);
+}
+
+void Scene::commit() {
+    // One Embree scene per shape, shared by every object that places it.
+    std::vector<RTCScene> meshScenes, surfaceScenes;
+    for (const auto& mesh : meshes) {
+        RTCScene s = rtcNewScene(device_);
+        RTCGeometry g = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
+        rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, mesh->positions.data(), 0,
+                                   3 * sizeof(float), mesh->vertexCount());
+        rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, mesh->indices.data(), 0,
+                                   3 * sizeof(uint32_t), mesh->triangleCount());
+        rtcCommitGeometry(g);
+        rtcAttachGeometry(s, g);
+        rtcReleaseGeometry(g);
+        rtcCommitScene(s);
+        meshScenes.push_back(s);
+        shapeScenes_.push_back(s);
+    }
+    for (const auto& surface : surfaces) {
+        RTCScene s = rtcNewScene(device_);
+        geometry::attachImplicitSurface(device_, s, *surface);
+        rtcCommitScene(s);
+        surfaceScenes.push_back(s);
+        shapeScenes_.push_back(s);
+    }
+    top_ = rtcNewScene(device_);
+    for (size_t i = 0; i < objects.size(); ++i) {
+        SceneObject& o = objects[i];
+        RTCGeometry inst = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_INSTANCE);
+        rtcSetGeometryInstancedScene(inst, o.kind == SceneObject::Kind::Mesh ? meshScenes[o.shape] : surfaceScenes[o.shape]);
+        Eigen::Matrix<float, 3, 4> m = o.worldFromObject.topRows<3>().cast<float>();
+        // Column-major 3x4, as Embree's FLOAT3X4_COLUMN_MAJOR expects.
+        rtcSetGeometryTransform(inst, 0, RTC_FORMAT_FLOAT3X4_COLUMN_MAJOR, m.data());
+        rtcCommitGeometry(inst);
+        rtcAttachGeometryByID(top_, inst, static_cast<unsigned>(i));
+        rtcReleaseGeometry(inst);
+        o.normalFromObject = o.worldFromObject.topLeftCorner<3, 3>().inverse().transpose();
+    }
+    rtcCommitScene(top_);
+}
+
+bool Scene::intersect(const Ray& ray, double tMax, SurfaceHit& hit) const {
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    RTCRayHit rh;
+    rh.ray.org_x = float(ray.origin.x());
+    rh.ray.org_y = float(ray.origin.y());
+    rh.ray.org_z = float(ray.origin.z());
+    rh.ray.dir_x = float(ray.direction.x());
+    rh.ray.dir_y = float(ray.direction.y());
+    rh.ray.dir_z = float(ray.direction.z());
+    rh.ray.tnear = 0.0f;
+    rh.ray.tfar = std::isfinite(tMax) ? float(tMax) : std::numeric_limits<float>::infinity();
+    rh.ray.mask = 0xFFFFFFFFu;
+    rh.ray.flags = 0;
+    rh.ray.time = 0.0f;
+    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    rtcIntersect1(top_, &context, &rh);
+    if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
+
+    hit.t = rh.ray.tfar;
+    hit.object = static_cast<int>(rh.hit.instID[0]);
+    hit.primitive = rh.hit.primID;
+    hit.position = ray.origin + hit.t * ray.direction;
+    const SceneObject& o = objects[hit.object];
+    const Vec3 ng(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z);
+    hit.geometricNormal = (o.normalFromObject * ng).normalized();
+    hit.shadingNormal = hit.geometricNormal;
+    if (o.kind == SceneObject::Kind::Mesh) {
+        const TriangleMesh& mesh = *meshes[o.shape];
+        if (!mesh.normals.empty()) {
+            const uint32_t* idx = &mesh.indices[3 * hit.primitive];
+            const double u = rh.hit.u, v = rh.hit.v;
+            const Vec3 n = (1 - u - v) * mesh.normal(idx[0]) + u * mesh.normal(idx[1]) + v * mesh.normal(idx[2]);
+            if (n.norm() > 0) {
+                hit.shadingNormal = (o.normalFromObject * n).normalized();
+                // Keep shading and geometric normals on the same side.
+                if (hit.shadingNormal.dot(hit.geometricNormal) < 0) hit.geometricNormal = -hit.geometricNormal;
+            }
+        }
+    } else {
+        // Implicit hits refine to 1e-6 of the object's size; use the
+        // double-precision point along the double ray.
+        hit.position = ray.origin + hit.t * ray.direction;
+    }
+    return true;
+}
+
+bool Scene::occluded(const Vec3& origin, const Vec3& direction, double tMax) const {
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    RTCRay r;
+    r.org_x = float(origin.x());
+    r.org_y = float(origin.y());
+    r.org_z = float(origin.z());
+    r.dir_x = float(direction.x());
+    r.dir_y = float(direction.y());
+    r.dir_z = float(direction.z());
+    r.tnear = 0.0f;
+    r.tfar = std::isfinite(tMax) ? float(tMax) : std::numeric_limits<float>::infinity();
+    r.mask = 0xFFFFFFFFu;
+    r.flags = 0;
+    r.time = 0.0f;
+    rtcOccluded1(top_, &context, &r);
+    return r.tfar < 0;
+}
+
+}  // namespace isotrace

@@ -1,0 +1,93 @@
+// A loaded scene: Embree's acceleration structure over instances of shared
+// shapes (triangle meshes and implicit surfaces), plus what shading needs.
+#pragma once
+
+#include <embree3/rtcore.h>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "camera.h"
+#include "geometry/implicit_surface.h"
+#include "light.h"
+#include "material.h"
+#include "pixel_filter.h"
+#include "sampler.h"
+#include "triangle_mesh.h"
+
+namespace isotrace {
+
+using geometry::Mat3;
+using geometry::Mat4;
+
+struct FilmSettings {
+    int width = 640;
+    int height = 480;
+    int samplesPerPixel = 16;
+    PixelFilter filter;
+    SamplerType sampler = SamplerType::Sobol;
+};
+
+struct IntegratorSettings {
+    enum class Type { Path, Whitted };
+    Type type = Type::Path;
+    int maxDepth = 8;
+    int russianRouletteDepth = 3;
+};
+
+/// One instance in the scene: a shape placed by a transform.
+struct SceneObject {
+    enum class Kind { Mesh, Implicit };
+    Kind kind = Kind::Mesh;
+    std::string name;
+    int shape = 0;  ///< index into Scene::meshes or Scene::surfaces
+    int material = 0;
+    int areaLight = -1;  ///< index into Scene::lights for emissive meshes
+    Mat4 worldFromObject = Mat4::Identity();
+    Mat3 normalFromObject = Mat3::Identity();  ///< inverse transpose of the linear part
+};
+
+struct SurfaceHit {
+    double t = 0.0;
+    Vec3 position;
+    Vec3 geometricNormal;  ///< unit, world space, outward for implicits
+    Vec3 shadingNormal;    ///< unit, world space
+    int object = -1;
+    unsigned primitive = 0;
+};
+
+class Scene {
+public:
+    Scene();
+    ~Scene();
+    Scene(const Scene&) = delete;
+    Scene& operator=(const Scene&) = delete;
+
+    // Contents, filled by the loader.
+    std::string sourceFile;
+    CameraSettings camera;
+    FilmSettings film;
+    IntegratorSettings integrator;
+    std::vector<Material> materials;
+    std::vector<std::shared_ptr<TriangleMesh>> meshes;
+    std::vector<std::unique_ptr<geometry::ImplicitSurface>> surfaces;
+    std::vector<SceneObject> objects;
+    std::vector<Light> lights;
+    int environmentLight = -1;
+
+    /// Builds Embree's structures; call once after filling the contents.
+    void commit();
+
+    bool intersect(const Ray& ray, double tMax, SurfaceHit& hit) const;
+    /// True when something blocks the segment from origin along direction up to tMax.
+    bool occluded(const Vec3& origin, const Vec3& direction, double tMax) const;
+
+    RTCDevice device() const { return device_; }
+
+private:
+    RTCDevice device_ = nullptr;
+    RTCScene top_ = nullptr;
+    std::vector<RTCScene> shapeScenes_;
+};
+
+}  // namespace isotrace

@@ -1,0 +1,23 @@
+// Reads a scene file (JSON, see docs/scene-format.md) into a Scene. Every
+// error is a geometry::InputError naming the file and the JSON pointer.
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include "scene.h"
+
+namespace isotrace {
+
+struct SceneOverrides {
+    int width = 0, height = 0, samplesPerPixel = 0;  ///< 0: as in the file
+    enum class FieldMode { AsWritten, Mesh, Implicit };
+    FieldMode fieldMode = FieldMode::AsWritten;
+};
+
+std::unique_ptr<Scene> loadScene(const std::string& path, const SceneOverrides& overrides = {});
+
+/// Bytes a render of this size needs (film sums, output and preview).
+double estimateFilmBytes(int width, int height);
+
+}  // namespace isotrace
