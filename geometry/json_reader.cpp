@@ -46,26 +46,41 @@ std::string joinNames(std::vector<std::string> names) {
 
 }  // namespace
 
+namespace {
+std::string lineAndColumn(const std::string& text, size_t offset) {
+    size_t line = 1, column = 1;
+    for (size_t i = 0; i < std::min(offset, text.size()); ++i) {
+        if (text[i] == '\n') {
+            ++line;
+            column = 1;
+        } else {
+            ++column;
+        }
+    }
+    return "line " + std::to_string(line) + ", column " + std::to_string(column);
+}
+}  // namespace
+
 Json parseJsonText(const std::string& text, const std::string& sourceName) {
     try {
         return Json::parse(text);
     } catch (const Json::parse_error& e) {
         // nlohmann reports a byte offset; users want line and column.
-        size_t line = 1, column = 1;
-        const size_t end = std::min<size_t>(e.byte == 0 ? 0 : e.byte - 1, text.size());
-        for (size_t i = 0; i < end; ++i) {
-            if (text[i] == '\n') {
-                ++line;
-                column = 1;
-            } else {
-                ++column;
-            }
-        }
         std::string what = e.what();
         const size_t pos = what.find("syntax error");
         if (pos != std::string::npos) what = what.substr(pos);
-        throw InputError(sourceName, "line " + std::to_string(line) + ", column " + std::to_string(column),
-                         "malformed JSON: " + what);
+        throw InputError(sourceName, lineAndColumn(text, e.byte == 0 ? 0 : e.byte - 1), "malformed JSON: " + what);
+    } catch (const Json::out_of_range& e) {
+        // A number too large for a double: nlohmann names the token, not its place.
+        std::string what = e.what();
+        const size_t open = what.find('\''), close = what.rfind('\'');
+        std::string where;
+        if (open != std::string::npos && close > open) {
+            const size_t at = text.find(what.substr(open + 1, close - open - 1));
+            if (at != std::string::npos) where = lineAndColumn(text, at);
+        }
+        const size_t pos = what.find("number overflow");
+        throw InputError(sourceName, where, pos != std::string::npos ? what.substr(pos) : what);
     }
 }
 

@@ -5,6 +5,7 @@
 #include <memory>
 #include <string>
 
+#include "geometry/input_error.h"
 #include "scene.h"
 
 namespace isotrace {

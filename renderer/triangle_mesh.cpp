@@ -57,8 +57,10 @@ TriangleMesh loadTriangleMesh(const std::string& path) {
     std::error_code ec;
     if (!std::filesystem::is_regular_file(path, ec)) throw InputError(path, "", "mesh file not found");
     Assimp::Importer importer;
-    // No FindDegenerates: degenerate triangles are reported, not hidden.
-    const aiScene* scene = importer.ReadFile(path, aiProcess_Triangulate | aiProcess_JoinIdenticalVertices);
+    // No post-processing: Assimp's steps assert (abort) on some corrupt
+    // files, and degenerate triangles are to be reported, not hidden.
+    // Polygons are split into fans below.
+    const aiScene* scene = importer.ReadFile(path, 0);
     if (!scene || (scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE) || !scene->mRootNode)
         throw InputError(path, "", std::string("cannot read mesh: ") + importer.GetErrorString());
     TriangleMesh mesh;
@@ -73,8 +75,15 @@ TriangleMesh loadTriangleMesh(const std::string& path) {
         }
         for (unsigned f = 0; f < am->mNumFaces; ++f) {
             const aiFace& face = am->mFaces[f];
-            if (face.mNumIndices != 3) continue;  // points and lines carry no surface
-            for (int k = 0; k < 3; ++k) mesh.indices.push_back(base + face.mIndices[k]);
+            for (unsigned k = 0; k < face.mNumIndices; ++k)
+                if (face.mIndices[k] >= am->mNumVertices)
+                    throw InputError(path, "face " + std::to_string(f),
+                                     "refers to vertex " + std::to_string(face.mIndices[k]) + " of " +
+                                         std::to_string(am->mNumVertices));
+            // Points and lines carry no surface; polygons become fans.
+            for (unsigned k = 2; k < face.mNumIndices; ++k)
+                mesh.indices.insert(mesh.indices.end(),
+                                    {base + face.mIndices[0], base + face.mIndices[k - 1], base + face.mIndices[k]});
         }
     }
     if (mesh.triangleCount() == 0) throw InputError(path, "", "mesh has no triangles");

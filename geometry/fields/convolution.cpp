@@ -26,7 +26,7 @@ Scalar segmentIntegral(const Eigen::Matrix<Scalar, 3, 1>& p, const ConvolutionSe
     if (rho2 < 0.0) rho2 = rho2 * 0.0;  // round-off below the axis
     const Scalar q2 = 1.0 + s * s * rho2;
     const Scalar q = sqrt(q2);
-    auto antiderivative = [&](const Scalar& tau) {
+    auto antiderivative = [&](const Scalar& tau) -> Scalar {  // a Scalar, not a dangling expression template
         return tau / (2.0 * q2 * (q2 + s * s * tau * tau)) + atan2(s * tau, q) / (2.0 * q2 * q * s);
     };
     const Scalar integral = antiderivative(length - x) - antiderivative(-x);

@@ -1,0 +1,152 @@
+#include "geometry/field_program.h"
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "support/field_catalog.h"
+
+using namespace isotrace::geometry;
+using isotrace::testing::CatalogEntry;
+using isotrace::testing::compileCatalogEntry;
+using isotrace::testing::fieldCatalog;
+
+namespace {
+
+Vec3 randomPointIn(const Box3& box, std::mt19937_64& rng) {
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    return box.lower + Vec3(u(rng), u(rng), u(rng)).cwiseProduct(box.extent());
+}
+
+// A random box inside `region`, from large to tiny.
+Box3 randomBox(const Box3& region, std::mt19937_64& rng) {
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    const double size = std::pow(10.0, -3.0 * u(rng)) * region.extent().maxCoeff() * 0.5;
+    const Vec3 c = randomPointIn(region, rng);
+    const Vec3 half(size * (0.2 + u(rng)), size * (0.2 + u(rng)), size * (0.2 + u(rng)));
+    return {c - half, c + half};
+}
+
+Box3 testRegion(const FieldProgram& f) {
+    const Box3 b = f.bounds();
+    return b.isFinite() ? b.expanded(0.5) : Box3::around(Vec3::Zero(), 2.0);
+}
+
+class EveryField : public ::testing::TestWithParam<CatalogEntry> {};
+
+}  // namespace
+
+// For random boxes and random point pairs inside them, f stays inside the
+// box's range and |f(a) - f(b)| <= L(box) |a - b|.
+TEST_P(EveryField, RangeAndLipschitzBoundsAreSound) {
+    const FieldProgram field = compileCatalogEntry(GetParam());
+    const Box3 region = testRegion(field);
+    for (int trial = 0; trial < 400; ++trial) {
+        std::mt19937_64 rng(1000 + trial);
+        const Box3 box = randomBox(region, rng);
+        const BoxEstimate e = field.estimate(box);
+        for (int pair = 0; pair < 25; ++pair) {
+            const Vec3 a = randomPointIn(box, rng), b = randomPointIn(box, rng);
+            const double fa = field.value(a), fb = field.value(b);
+            ASSERT_TRUE(e.range.contains(fa)) << "trial " << trial << " box " << box << " f(a)=" << fa
+                                              << " range " << e.range;
+            ASSERT_LE(std::abs(fa - fb), e.lipschitz * (a - b).norm() * (1 + 1e-9) + 1e-12)
+                << "trial " << trial << " box " << box << " L=" << e.lipschitz;
+        }
+    }
+}
+
+// The analytic gradient agrees with central differences away from kinks.
+TEST_P(EveryField, GradientMatchesFiniteDifferences) {
+    const FieldProgram field = compileCatalogEntry(GetParam());
+    const Box3 region = testRegion(field);
+    std::mt19937_64 rng(42);
+    int agreeing = 0, total = 0;
+    for (int i = 0; i < 400; ++i) {
+        const Vec3 p = randomPointIn(region, rng);
+        Vec3 g;
+        field.valueAndGradient(p, g);
+        const double h = 1e-6;
+        Vec3 fd;
+        for (int k = 0; k < 3; ++k) {
+            Vec3 d = Vec3::Zero();
+            d[k] = h;
+            fd[k] = (field.value(p + d) - field.value(p - d)) / (2 * h);
+        }
+        ++total;
+        if ((fd - g).norm() <= 1e-4 * std::max(1.0, g.norm())) ++agreeing;
+    }
+    // Kinks of min/max and of distance fields are a measure-zero set; a few
+    // samples may fall within h of one.
+    EXPECT_GE(agreeing, total - 4) << GetParam().name;
+}
+
+// A cell's pruned program equals the whole field inside the cell.
+TEST_P(EveryField, PrunedProgramEqualsFieldInsideItsBox) {
+    const FieldProgram field = compileCatalogEntry(GetParam());
+    const Box3 region = testRegion(field);
+    for (int trial = 0; trial < 100; ++trial) {
+        std::mt19937_64 rng(5000 + trial);
+        const Box3 box = randomBox(region, rng);
+        const FieldProgram pruned = field.prunedTo(box);
+        ASSERT_LE(pruned.instructionCount(), field.instructionCount());
+        for (int i = 0; i < 20; ++i) {
+            const Vec3 p = randomPointIn(box, rng);
+            ASSERT_NEAR(pruned.value(p), field.value(p), 1e-12 * std::max(1.0, std::abs(field.value(p))))
+                << "trial " << trial << " box " << box;
+        }
+    }
+}
+
+INSTANTIATE_TEST_SUITE_P(Catalog, EveryField, ::testing::ValuesIn(fieldCatalog()),
+                         [](const auto& info) { return info.param.name; });
+
+// Inside (f < 0) and outside of union, intersection and difference follow
+// the truth tables of their operands.
+TEST(FieldProgramCsg, InsideOutsideFollowsTruthTables) {
+    FieldProgram a, b, u, i, d;
+    const SphereField s1{Vec3(-0.3, 0, 0), 0.7}, s2{Vec3(0.4, 0.1, 0), 0.6};
+    a.addLeaf(s1);
+    b.addLeaf(s2);
+    {
+        const uint32_t x = u.addLeaf(s1), y = u.addLeaf(s2);
+        u.addBinary(FieldOp::Min, x, y);
+    }
+    {
+        const uint32_t x = i.addLeaf(s1), y = i.addLeaf(s2);
+        i.addBinary(FieldOp::Max, x, y);
+    }
+    {
+        const uint32_t x = d.addLeaf(s1), y = d.addLeaf(s2);
+        d.addBinary(FieldOp::Max, x, d.addUnary(FieldOp::Negate, y));
+    }
+    std::mt19937_64 rng(3);
+    std::uniform_real_distribution<double> c(-1.5, 1.5);
+    for (int k = 0; k < 5000; ++k) {
+        const Vec3 p(c(rng), c(rng), c(rng));
+        const bool inA = a.value(p) < 0, inB = b.value(p) < 0;
+        ASSERT_EQ(u.value(p) < 0, inA || inB) << p.transpose();
+        ASSERT_EQ(i.value(p) < 0, inA && inB) << p.transpose();
+        ASSERT_EQ(d.value(p) < 0, inA && !inB) << p.transpose();
+    }
+}
+
+TEST(FieldProgramPruning, DropsOperandsThatCannotMatter) {
+    FieldProgram f;
+    const uint32_t x = f.addLeaf(SphereField{Vec3(-2, 0, 0), 0.5});
+    const uint32_t y = f.addLeaf(SphereField{Vec3(2, 0, 0), 0.5});
+    f.addBinary(FieldOp::Min, x, y);
+    const FieldProgram near = f.prunedTo(Box3::around(Vec3(-2, 0, 0), 0.6));
+    EXPECT_EQ(near.instructionCount(), 1u);
+    const FieldProgram middle = f.prunedTo(Box3::around(Vec3(0, 0, 0), 0.3));
+    EXPECT_EQ(middle.instructionCount(), 3u);  // equidistant: both operands matter
+}
+
+TEST(FieldProgramPruning, BlobsOutsideTheirSupportAreDropped) {
+    BlobbyField blobs;
+    for (int i = 0; i < 100; ++i) blobs.blobs.push_back({Vec3(i, 0, 0), 0.8, 1.0});
+    FieldProgram f;
+    f.addLeaf(blobs);
+    const FieldProgram pruned = f.prunedTo(Box3::around(Vec3(50, 0, 0), 0.25));
+    EXPECT_EQ(pruned.evaluationCost(), 3u);  // blobs 49, 50, 51 reach the box
+}

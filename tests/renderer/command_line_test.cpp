@@ -1,0 +1,116 @@
+// The isotrace executable as users run it: exit codes, messages and the
+// guarantee that bad input leaves no output file behind.
+#include <OpenImageIO/imageio.h>
+#include <gtest/gtest.h>
+
+#include "support/run_command.h"
+#include "support/temporary_files.h"
+
+using isotrace::testing::runIsotrace;
+using isotrace::testing::TemporaryFolder;
+
+namespace {
+
+const char* kSmallScene = R"({"camera": {"from": [0, 0, 4], "to": [0, 0, 0], "fov": 40},
+  "film": {"width": 16, "height": 12, "spp": 2},
+  "materials": {"clay": {"type": "diffuse"}},
+  "fields": {"ball": {"type": "sphere", "radius": 1}},
+  "objects": [{"field": "ball", "material": "clay"}],
+  "lights": [{"type": "environment", "radiance": [1, 1, 1]}]})";
+
+size_t filesIn(const std::filesystem::path& folder) {
+    size_t n = 0;
+    for ([[maybe_unused]] const auto& entry : std::filesystem::directory_iterator(folder)) ++n;
+    return n;
+}
+
+}  // namespace
+
+TEST(CommandLine, HelpAndVersionSucceed) {
+    const auto help = runIsotrace("--help");
+    EXPECT_EQ(help.exitCode, 0);
+    EXPECT_NE(help.output.find("render"), std::string::npos);
+    const auto renderHelp = runIsotrace("render --help");
+    EXPECT_EQ(renderHelp.exitCode, 0);
+    EXPECT_NE(renderHelp.output.find("--spp"), std::string::npos);
+    const auto version = runIsotrace("--version");
+    EXPECT_EQ(version.exitCode, 0);
+    EXPECT_NE(version.output.find("isotrace 0."), std::string::npos);
+}
+
+TEST(CommandLine, UsageErrorsExitWith2) {
+    EXPECT_EQ(runIsotrace("").exitCode, 2);
+    EXPECT_EQ(runIsotrace("render").exitCode, 2);
+    EXPECT_EQ(runIsotrace("frobnicate").exitCode, 2);
+    EXPECT_EQ(runIsotrace("render x.json --spp 0").exitCode, 2);
+    EXPECT_EQ(runIsotrace("render x.json --threads -1").exitCode, 2);
+}
+
+TEST(CommandLine, RendersAnEXRWithMetadataAndAPngPreview) {
+    TemporaryFolder folder;
+    const std::string scene = folder.write("ball.json", kSmallScene);
+    const auto r = runIsotrace("render " + scene + " -o " + folder.file("out.exr") + " --seed 3 --quiet");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    ASSERT_TRUE(std::filesystem::exists(folder.file("out.png")));
+    auto in = OIIO::ImageInput::open(folder.file("out.exr"));
+    ASSERT_TRUE(in);
+    const OIIO::ImageSpec& spec = in->spec();
+    EXPECT_EQ(spec.width, 16);
+    EXPECT_EQ(spec.height, 12);
+    EXPECT_EQ(spec.format, OIIO::TypeDesc::FLOAT);
+    EXPECT_NE(spec.get_string_attribute("Software").find("isotrace"), std::string::npos);
+    EXPECT_EQ(spec.get_string_attribute("isotrace:seed"), "3");
+    EXPECT_EQ(spec.get_string_attribute("isotrace:spp"), "2");
+    EXPECT_FALSE(spec.get_string_attribute("isotrace:camera").empty());
+    EXPECT_EQ(filesIn(folder.path()), 3u) << "no temporary files may remain";
+}
+
+TEST(CommandLine, HalfFloatOutputAndOverrides) {
+    TemporaryFolder folder;
+    const std::string scene = folder.write("ball.json", kSmallScene);
+    const auto r = runIsotrace("render " + scene + " -o " + folder.file("h.exr") +
+                               " --half --width 20 --height 10 --spp 1 --no-preview --quiet");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    auto in = OIIO::ImageInput::open(folder.file("h.exr"));
+    ASSERT_TRUE(in);
+    EXPECT_EQ(in->spec().format, OIIO::TypeDesc::HALF);
+    EXPECT_EQ(in->spec().width, 20);
+    EXPECT_FALSE(std::filesystem::exists(folder.file("h.png")));
+}
+
+// Bad input: a message naming the file and place, exit 2, and no file left.
+TEST(CommandLine, BadInputLeavesNoOutput) {
+    TemporaryFolder folder;
+    struct Case {
+        std::string name, scene, expect;
+    };
+    const std::vector<Case> cases{
+        {"malformed", "{\"film\": {", "line 1"},
+        {"unknown_key", R"({"objects": [], "flim": {}})", "/objects"},
+        {"unknown_material", R"({"materials": {}, "objects": [{"field": "x", "material": "m"}]})", "/objects/0/material"},
+        {"bad_field", R"({"materials": {"m": {"type": "diffuse"}}, "fields": {"x": {"type": "sphere", "radius": 0}},
+                          "objects": [{"field": "x", "material": "m"}]})", "/fields/x/radius"},
+    };
+    for (const Case& c : cases) {
+        const std::string scene = folder.write(c.name + ".json", c.scene);
+        const std::string out = folder.file(c.name + ".exr");
+        const auto r = runIsotrace("render " + scene + " -o " + out + " --quiet");
+        EXPECT_EQ(r.exitCode, 2) << c.name << ": " << r.output;
+        EXPECT_NE(r.output.find(c.name + ".json"), std::string::npos) << r.output;
+        EXPECT_NE(r.output.find(c.expect), std::string::npos) << r.output;
+        EXPECT_FALSE(std::filesystem::exists(out)) << c.name;
+        EXPECT_FALSE(std::filesystem::exists(folder.file(c.name + ".png"))) << c.name;
+    }
+    EXPECT_EQ(filesIn(folder.path()), cases.size()) << "only the scene files may exist";
+}
+
+TEST(CommandLine, MissingSceneAndUnwritableOutput) {
+    TemporaryFolder folder;
+    const auto missing = runIsotrace("render " + folder.file("none.json") + " -o " + folder.file("o.exr"));
+    EXPECT_EQ(missing.exitCode, 2);
+    EXPECT_NE(missing.output.find("none.json"), std::string::npos);
+    const std::string scene = folder.write("ball.json", kSmallScene);
+    const auto noFolder = runIsotrace("render " + scene + " -o " + folder.file("no/such/folder/o.exr"));
+    EXPECT_EQ(noFolder.exitCode, 2);
+    EXPECT_NE(noFolder.output.find("does not exist"), std::string::npos) << noFolder.output;
+}

@@ -1,0 +1,47 @@
+#include "renderer/render.h"
+
+#include <gtest/gtest.h>
+
+#include <cstring>
+
+#include "support/scene_files.h"
+
+using namespace isotrace;
+using isotrace::testing::loadSceneText;
+using isotrace::testing::TemporaryFolder;
+
+namespace {
+const char* kMixedScene = R"({
+  "camera": {"from": [0, 1, 4], "to": [0, 0, 0], "fov": 45, "aperture": 0.05},
+  "film": {"width": 48, "height": 40, "spp": 8},
+  "integrator": {"type": "path", "max_depth": 6},
+  "materials": {"clay": {"type": "diffuse", "albedo": [0.7, 0.6, 0.5]}, "mirror": {"type": "mirror"}},
+  "fields": {"blob": {"type": "blobby", "blobs": [{"center": [-0.3, 0, 0], "radius": 1}, {"center": [0.4, 0.2, 0], "radius": 0.8}]}},
+  "objects": [{"field": "blob", "material": "clay"},
+              {"vertices": [-3, -0.8, -3, 3, -0.8, -3, 3, -0.8, 3, -3, -0.8, 3], "indices": [0, 2, 1, 0, 3, 2], "material": "mirror"}],
+  "lights": [{"type": "quad", "corner": [-0.5, 2, -0.5], "edge1": [1, 0, 0], "edge2": [0, 0, 1], "radiance": [5, 5, 5]},
+             {"type": "point", "position": [2, 3, 2], "intensity": [5, 5, 5]},
+             {"type": "environment", "radiance": [0.2, 0.2, 0.25]}]})";
+}
+
+TEST(Render, SameBitsOnOneAndTwoThreads) {
+    TemporaryFolder folder;
+    auto scene = loadSceneText(folder, kMixedScene);
+    const Image one = render(*scene, {.threads = 1, .seed = 11, .quiet = true});
+    const Image two = render(*scene, {.threads = 2, .seed = 11, .quiet = true});
+    ASSERT_EQ(one.rgb.size(), two.rgb.size());
+    EXPECT_EQ(std::memcmp(one.rgb.data(), two.rgb.data(), one.rgb.size() * sizeof(float)), 0);
+    // And the seed matters: otherwise the comparison above proves nothing.
+    const Image other = render(*scene, {.threads = 2, .seed = 12, .quiet = true});
+    EXPECT_NE(std::memcmp(one.rgb.data(), other.rgb.data(), one.rgb.size() * sizeof(float)), 0);
+}
+
+TEST(Render, IndependentSamplerIsDeterministicToo) {
+    TemporaryFolder folder;
+    std::string text = kMixedScene;
+    text.replace(text.find("\"spp\": 8"), 8, "\"spp\": 8, \"sampler\": \"independent\"");
+    auto scene = loadSceneText(folder, text);
+    const Image a = render(*scene, {.threads = 1, .seed = 2, .quiet = true});
+    const Image b = render(*scene, {.threads = 2, .seed = 2, .quiet = true});
+    EXPECT_EQ(std::memcmp(a.rgb.data(), b.rgb.data(), a.rgb.size() * sizeof(float)), 0);
+}

@@ -1,0 +1,77 @@
+#include "renderer/sampler.h"
+
+#include <gtest/gtest.h>
+
+#include <set>
+
+using namespace isotrace;
+
+TEST(Sampler, ValuesDependOnlyOnSeedPixelSampleAndDimension) {
+    for (SamplerType type : {SamplerType::Sobol, SamplerType::Independent}) {
+        Sampler a(type, 9), b(type, 9);
+        // Different call histories must not matter.
+        b.startPixelSample(5, 5, 3);
+        b.get2D();
+        a.startPixelSample(1, 2, 7);
+        b.startPixelSample(1, 2, 7);
+        for (int d = 0; d < 20; ++d) {
+            const auto x = a.get2D(), y = b.get2D();
+            EXPECT_EQ(x, y);
+        }
+        Sampler c(type, 10);
+        c.startPixelSample(1, 2, 7);
+        a.startPixelSample(1, 2, 7);
+        EXPECT_NE(a.get2D(), c.get2D()) << "the seed must change the numbers";
+    }
+}
+
+TEST(Sampler, ValuesLieInTheUnitInterval) {
+    Sampler s(SamplerType::Sobol, 1);
+    for (int i = 0; i < 1000; ++i) {
+        s.startPixelSample(i % 17, i % 13, i);
+        for (int d = 0; d < 10; ++d) {
+            const double v = s.get1D();
+            ASSERT_GE(v, 0.0);
+            ASSERT_LT(v, 1.0);
+        }
+    }
+}
+
+// The first 2^m Owen-scrambled Sobol points of a dimension pair put exactly
+// one point in each cell of every elementary grid (1 x 2^m ... 2^m x 1).
+TEST(Sampler, SobolPairsAreStratifiedInEveryElementaryGrid) {
+    constexpr int m = 6, n = 1 << m;
+    for (int pixel = 0; pixel < 8; ++pixel) {
+        Sampler s(SamplerType::Sobol, 3);
+        std::vector<Eigen::Vector2d> points(n);
+        for (int dimensionPair = 0; dimensionPair < 3; ++dimensionPair) {
+            for (int i = 0; i < n; ++i) {
+                s.startPixelSample(pixel, 0, i);
+                for (int k = 0; k < dimensionPair; ++k) s.get2D();
+                points[i] = s.get2D();
+            }
+            for (int bitsX = 0; bitsX <= m; ++bitsX) {
+                const int cellsX = 1 << bitsX, cellsY = 1 << (m - bitsX);
+                std::set<int> cells;
+                for (const auto& p : points) cells.insert(int(p.x() * cellsX) * cellsY + int(p.y() * cellsY));
+                EXPECT_EQ(cells.size(), size_t(n)) << "pixel " << pixel << " pair " << dimensionPair << " grid "
+                                                   << cellsX << "x" << cellsY;
+            }
+        }
+    }
+}
+
+TEST(Sampler, IndependentValuesHaveTheRightMoments) {
+    Sampler s(SamplerType::Independent, 4);
+    double sum = 0, sum2 = 0;
+    const int n = 100000;
+    for (int i = 0; i < n; ++i) {
+        s.startPixelSample(i % 100, i / 100, i);
+        const double v = s.get1D();
+        sum += v;
+        sum2 += v * v;
+    }
+    // Mean 1/2 and second moment 1/3, within 5 standard errors.
+    EXPECT_NEAR(sum / n, 0.5, 5 * std::sqrt(1.0 / 12 / n));
+    EXPECT_NEAR(sum2 / n, 1.0 / 3.0, 5 * std::sqrt(4.0 / 45 / n));
+}

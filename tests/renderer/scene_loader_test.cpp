@@ -1,0 +1,165 @@
+#include "renderer/scene_loader.h"
+
+#include <gtest/gtest.h>
+
+#include "support/scene_files.h"
+
+using namespace isotrace;
+using isotrace::testing::sceneError;
+using isotrace::testing::TemporaryFolder;
+
+namespace {
+
+// A valid scene with one replaceable part: "%OBJECTS%", "%FILM%" etc.
+std::string scene(const std::string& film = R"({"width": 32, "height": 24, "spp": 1})",
+                  const std::string& objects = R"([{"field": "ball", "material": "clay"}])",
+                  const std::string& extra = "") {
+    return R"({"camera": {"from": [0, 0, 5], "to": [0, 0, 0], "fov": 40},
+               "film": )" + film + R"(,
+               "materials": {"clay": {"type": "diffuse", "albedo": [0.5, 0.5, 0.5]}},
+               "fields": {"ball": {"type": "sphere", "radius": 1}},
+               "objects": )" + objects + extra + R"(,
+               "lights": [{"type": "environment", "radiance": [1, 1, 1]}]})";
+}
+
+void expectError(const std::string& error, const std::string& where, const std::string& what) {
+    EXPECT_NE(error.find("scene.json"), std::string::npos) << "no file name in: " << error;
+    EXPECT_NE(error.find(where), std::string::npos) << "no place \"" << where << "\" in: " << error;
+    EXPECT_NE(error.find(what), std::string::npos) << "no \"" << what << "\" in: " << error;
+}
+
+}  // namespace
+
+TEST(SceneLoader, LoadsAValidScene) {
+    TemporaryFolder folder;
+    EXPECT_EQ(sceneError(folder, scene()), "");
+}
+
+TEST(SceneLoader, MissingFile) {
+    try {
+        loadScene("/nonexistent/scene.json");
+        FAIL();
+    } catch (const geometry::InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("/nonexistent/scene.json: cannot open"), std::string::npos) << e.what();
+    }
+}
+
+TEST(SceneLoader, UnreadableFile) {
+    TemporaryFolder folder;
+    // A folder where a file is expected cannot be read, even by root.
+    std::filesystem::create_directory(folder.file("scene.json"));
+    try {
+        loadScene(folder.file("scene.json"));
+        FAIL();
+    } catch (const geometry::InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("scene.json"), std::string::npos);
+    }
+}
+
+TEST(SceneLoader, MalformedJsonNamesLineAndColumn) {
+    TemporaryFolder folder;
+    expectError(sceneError(folder, "{\n  \"film\": {\"width\": 32,,\n}"), "line 2, column 24", "malformed JSON");
+}
+
+TEST(SceneLoader, NumberTooLargeForADouble) {
+    TemporaryFolder folder;
+    expectError(sceneError(folder, "{\"film\": {\"width\": 1e999}}"), "line 1, column 20", "number overflow");
+}
+
+TEST(SceneLoader, WrongTypes) {
+    TemporaryFolder folder;
+    expectError(sceneError(folder, scene(R"({"width": "wide"})")), "/film/width", "expected a whole number");
+    expectError(sceneError(folder, scene(R"({"width": 32.5})")), "/film/width", "expected a whole number");
+    expectError(sceneError(folder, scene(R"([1, 2])")), "/film", "expected an object");
+    expectError(sceneError(folder, scene("{}", R"({"field": "ball"})")), "/objects", "expected an array");
+}
+
+TEST(SceneLoader, UnknownKeysSuggestTheNearest) {
+    TemporaryFolder folder;
+    expectError(sceneError(folder, scene(R"({"widht": 32})")), "/film/widht", "did you mean \"width\"");
+    expectError(sceneError(folder, scene("{}", R"([{"field": "ball", "material": "clay", "matrial": 1}])")),
+                "/objects/0/matrial", "unknown key");
+}
+
+TEST(SceneLoader, UnknownMaterialAndFieldNames) {
+    TemporaryFolder folder;
+    expectError(sceneError(folder, scene("{}", R"([{"field": "ball", "material": "cla"}])")), "/objects/0/material",
+                "unknown material \"cla\" (did you mean \"clay\"?)");
+    expectError(sceneError(folder, scene("{}", R"([{"field": "bal", "material": "clay"}])")), "/objects/0/field",
+                "unknown field \"bal\"");
+}
+
+TEST(SceneLoader, ZeroOrNegativeSizesAndSampleCounts) {
+    TemporaryFolder folder;
+    expectError(sceneError(folder, scene(R"({"width": 0})")), "/film/width", "between 1 and");
+    expectError(sceneError(folder, scene(R"({"height": -4})")), "/film/height", "between 1 and");
+    expectError(sceneError(folder, scene(R"({"spp": 0})")), "/film/spp", "between 1 and");
+}
+
+TEST(SceneLoader, ImageTooLargeForMemoryIsRefusedWithTheEstimate) {
+    TemporaryFolder folder;
+    expectError(sceneError(folder, scene(R"({"width": 65536, "height": 65536})")), "/film", "GiB");
+}
+
+TEST(SceneLoader, MissingMeshFile) {
+    TemporaryFolder folder;
+    expectError(sceneError(folder, scene("{}", R"([{"mesh": "nothere.obj", "material": "clay"}])")), "/objects/0/mesh",
+                "mesh file not found");
+}
+
+TEST(SceneLoader, CorruptMeshFile) {
+    TemporaryFolder folder;
+    folder.write("broken.off", "OFF\n4 2 0\n0 0 0\n1 0 0\n");  // promises more than it has
+    expectError(sceneError(folder, scene("{}", R"([{"mesh": "broken.off", "material": "clay"}])")), "/objects/0/mesh",
+                "broken.off");
+    folder.write("noise.obj", "this is not a mesh\n\x01\x02\x03");
+    expectError(sceneError(folder, scene("{}", R"([{"mesh": "noise.obj", "material": "clay"}])")), "/objects/0/mesh",
+                "noise.obj");
+}
+
+TEST(SceneLoader, LoadsMeshFilesOfEachFormat) {
+    TemporaryFolder folder;
+    folder.write("t.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
+    folder.write("t.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+    folder.write("t.ply",
+                 "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+                 "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
+    for (const char* file : {"t.off", "t.obj", "t.ply"})
+        EXPECT_EQ(sceneError(folder, scene("{}", std::string(R"([{"mesh": ")") + file + R"(", "material": "clay"}])")), "")
+            << file;
+}
+
+TEST(SceneLoader, DegenerateTriangles) {
+    TemporaryFolder folder;
+    const std::string objects = R"([{"vertices": [0,0,0, 1,0,0, 2,0,0, 0,1,0], "indices": [0,1,3, 0,1,2], "material": "clay")";
+    expectError(sceneError(folder, scene("{}", objects + "}]")), "/objects/0/indices", "triangle 1 is degenerate");
+    EXPECT_EQ(sceneError(folder, scene("{}", objects + R"(, "drop_degenerate": true}])")), "");
+    expectError(sceneError(folder, scene("{}", R"([{"vertices": [0,0,0, 1,0,0, 0,1,0], "indices": [0,1,7], "material": "clay"}])")),
+                "/objects/0/indices", "refers to vertex 7");
+}
+
+TEST(SceneLoader, EmptyScene) {
+    TemporaryFolder folder;
+    expectError(sceneError(folder, scene("{}", "[]")), "/objects", "the scene is empty");
+    expectError(sceneError(folder, "{}"), "/objects", "missing required key");
+}
+
+TEST(SceneLoader, InvalidFieldInsideAScene) {
+    TemporaryFolder folder;
+    const std::string text = R"({"materials": {"m": {"type": "diffuse"}},
+        "fields": {"a": {"type": "union", "of": ["b"]}, "b": {"type": "union", "of": ["a"]}},
+        "objects": [{"field": "a", "material": "m"}]})";
+    expectError(sceneError(folder, text), "/fields/", "cycle in the field graph");
+}
+
+TEST(SceneLoader, TransformsOfEveryForm) {
+    TemporaryFolder folder;
+    auto withTransform = [&](const std::string& t) {
+        return scene("{}", R"([{"field": "ball", "material": "clay", "transform": )" + t + "}]");
+    };
+    EXPECT_EQ(sceneError(folder, withTransform(R"({"translate": [1, 0, 0], "rotate": {"axis": [0, 1, 0], "angle": 45}, "scale": 2})")), "");
+    EXPECT_EQ(sceneError(folder, withTransform(R"({"matrix": [[1,0,0,1],[0,1,0,0],[0,0,1,0],[0,0,0,1]]})")), "");
+    expectError(sceneError(folder, withTransform(R"({"scale": 0})")), "/objects/0/transform", "singular");
+    expectError(sceneError(folder, withTransform(R"({"matrix": [[1,0,0,1],[0,1,0,0],[0,0,1,0],[0,0,1,1]]})")),
+                "/objects/0/transform/matrix", "affine");
+}

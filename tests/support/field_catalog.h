@@ -1,0 +1,73 @@
+// One description of every field type and operator, for property tests that
+// must hold for all of them (bound soundness, no false misses).
+#pragma once
+
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "geometry/field_parser.h"
+
+namespace isotrace::testing {
+
+struct CatalogEntry {
+    std::string name;
+    std::string json;  ///< a description; may refer to the catalog's "library" names
+};
+
+/// Named fields the entries may refer to.
+inline const char* kCatalogLibrary = R"({
+  "ball": {"type": "sphere", "center": [0.2, 0, 0], "radius": 0.9},
+  "cube": {"type": "box", "size": [1.4, 1.2, 1.0]},
+  "ring": {"type": "torus", "major": 0.8, "minor": 0.25}
+})";
+
+inline std::vector<CatalogEntry> fieldCatalog() {
+    return {
+        {"sphere", R"({"type": "sphere", "center": [0.1, -0.2, 0.3], "radius": 0.8})"},
+        {"box", R"({"type": "box", "center": [0, 0.1, 0], "size": [1.2, 0.8, 1.6]})"},
+        {"rounded_box", R"({"type": "box", "size": [1.2, 0.8, 1.6], "rounding": 0.2})"},
+        {"torus", R"({"type": "torus", "major": 0.9, "minor": 0.3})"},
+        {"cylinder", R"({"type": "cylinder", "radius": 0.5, "height": 1.5})"},
+        {"cone", R"({"type": "cone", "radius": 0.7, "top_radius": 0.2, "height": 1.2})"},
+        {"capsule", R"({"type": "capsule", "from": [-0.6, -0.3, 0], "to": [0.5, 0.4, 0.2], "radius": 0.3})"},
+        {"half_space", R"({"type": "intersection", "of": [{"type": "plane", "normal": [1, 2, 0.5], "offset": 0.1}, "ball"]})"},
+        {"ellipsoid", R"({"type": "ellipsoid", "radii": [1.0, 0.5, 0.7]})"},
+        {"quadric", R"({"type": "quadric", "coefficients": [1, 2, 1.5, 0.2, 0, 0.1, 0, 0, 0, -0.8], "domain": [[-1.5, -1.5, -1.5], [1.5, 1.5, 1.5]]})"},
+        {"tangle", R"({"type": "polynomial", "preset": "tangle"})"},
+        {"heart", R"({"type": "polynomial", "preset": "heart"})"},
+        {"pretzel2", R"({"type": "polynomial", "preset": "pretzel2"})"},
+        {"blobby_blinn", R"({"type": "blobby", "kernel": "blinn", "threshold": 0.4, "blobs": [
+            {"center": [-0.4, 0, 0], "radius": 0.7}, {"center": [0.45, 0.1, 0], "radius": 0.6},
+            {"center": [0, 0.5, 0.2], "radius": 0.5, "weight": 0.8}]})"},
+        {"blobby_metaball", R"({"type": "blobby", "kernel": "metaball", "threshold": 0.3, "blobs": [
+            {"center": [-0.4, 0, 0], "radius": 1.0}, {"center": [0.5, 0.1, 0], "radius": 0.9},
+            {"center": [0, -0.3, 0.4], "radius": 0.8, "weight": -0.3}]})"},
+        {"blobby_soft", R"({"type": "blobby", "kernel": "soft", "threshold": 0.3, "blobs": [
+            {"center": [-0.4, 0, 0], "radius": 1.0}, {"center": [0.5, 0.1, 0], "radius": 0.9}]})"},
+        {"distance_polyline", R"({"type": "distance", "points": [[-0.8, 0, 0], [0, 0.5, 0], [0.7, -0.2, 0.3]], "radius": 0.2})"},
+        {"distance_circle", R"({"type": "distance", "circle": {"center": [0, 0.1, 0], "normal": [1, 1, 0], "radius": 0.7}, "radius": 0.15})"},
+        {"convolution", R"({"type": "convolution", "threshold": 0.5, "segments": [
+            {"from": [-0.8, 0, 0], "to": [0.8, 0, 0], "radius": 0.3},
+            {"from": [0, -0.7, 0], "to": [0, 0.7, 0.2], "radius": 0.25, "weight": 0.9}]})"},
+        {"union", R"({"type": "union", "of": ["ball", "ring"]})"},
+        {"intersection", R"({"type": "intersection", "of": ["ball", "cube"]})"},
+        {"difference", R"({"type": "difference", "of": ["cube", "ball"]})"},
+        {"complement_in_csg", R"({"type": "intersection", "of": ["cube", {"type": "complement", "of": "ring"}]})"},
+        {"smooth_union", R"({"type": "smooth_union", "radius": 0.3, "of": ["ball", {"type": "sphere", "center": [-0.9, 0.3, 0], "radius": 0.5}]})"},
+        {"smooth_intersection", R"({"type": "smooth_intersection", "radius": 0.2, "of": ["ball", "cube"]})"},
+        {"smooth_difference", R"({"type": "smooth_difference", "radius": 0.2, "of": ["cube", "ring"]})"},
+        {"offset", R"({"type": "offset", "distance": 0.15, "of": "cube"})"},
+        {"transform_uniform", R"({"type": "transform", "translate": [0.2, 0, 0], "rotate": {"axis": [1, 1, 0], "angle": 30}, "scale": 0.7, "of": "ring"})"},
+        {"transform_nonuniform", R"({"type": "transform", "rotate": {"axis": [0, 0, 1], "angle": 20}, "scale": [1.5, 0.6, 1.0], "of": "ring"})"},
+        {"nested_transform_blend", R"({"type": "transform", "scale": 0.5, "of": {"type": "smooth_union", "radius": 0.4, "of": ["ball", "ring"]}})"},
+    };
+}
+
+inline geometry::FieldProgram compileCatalogEntry(const CatalogEntry& entry) {
+    const geometry::Json library = geometry::Json::parse(kCatalogLibrary);
+    geometry::FieldLibrary fields(library, "/fields", "catalog");
+    return fields.compileDescription(geometry::Json::parse(entry.json), "/" + entry.name);
+}
+
+}  // namespace isotrace::testing
