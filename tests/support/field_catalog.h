@@ -15,6 +15,9 @@ struct CatalogEntry {
     std::string json;  ///< a description; may refer to the catalog's "library" names
 };
 
+// Test names print the entry's name, not its bytes.
+inline void PrintTo(const CatalogEntry& e, std::ostream* os) { *os << e.name; }
+
 /// Named fields the entries may refer to.
 inline const char* kCatalogLibrary = R"({
   "ball": {"type": "sphere", "center": [0.2, 0, 0], "radius": 0.9},

@@ -1,0 +1,46 @@
+// Helpers shared by the benchmarks: timing medians and procedural scenes.
+#pragma once
+
+#include <algorithm>
+#include <chrono>
+#include <functional>
+#include <memory>
+#include <numbers>
+#include <vector>
+
+#include "renderer/scene.h"
+
+namespace isotrace::bench {
+
+/// Median wall time in seconds of `runs` calls.
+inline double medianSeconds(int runs, const std::function<void()>& work) {
+    std::vector<double> times;
+    for (int i = 0; i < runs; ++i) {
+        const auto start = std::chrono::steady_clock::now();
+        work();
+        times.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+    }
+    std::sort(times.begin(), times.end());
+    return times[times.size() / 2];
+}
+
+/// A torus tessellated into 2 * rings * segments triangles.
+inline TriangleMesh tessellatedTorus(int rings, int segments, double major, double minor) {
+    TriangleMesh mesh;
+    for (int i = 0; i < rings; ++i)
+        for (int j = 0; j < segments; ++j) {
+            const double u = 2 * std::numbers::pi * i / rings, v = 2 * std::numbers::pi * j / segments;
+            const double r = major + minor * std::cos(v);
+            mesh.positions.insert(mesh.positions.end(),
+                                  {float(r * std::cos(u)), float(minor * std::sin(v)), float(r * std::sin(u))});
+        }
+    for (int i = 0; i < rings; ++i)
+        for (int j = 0; j < segments; ++j) {
+            const uint32_t a = i * segments + j, b = ((i + 1) % rings) * segments + j;
+            const uint32_t c = ((i + 1) % rings) * segments + (j + 1) % segments, d = i * segments + (j + 1) % segments;
+            mesh.indices.insert(mesh.indices.end(), {a, b, c, a, c, d});
+        }
+    return mesh;
+}
+
+}  // namespace isotrace::bench

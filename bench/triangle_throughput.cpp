@@ -1,0 +1,56 @@
+// Primary-ray and path-traced throughput of the renderer on a triangle scene
+// of about 1M triangles, on 1 and 2 threads (median of 5 runs).
+#include <cstdio>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include "bench_support.h"
+#include "renderer/camera.h"
+#include "renderer/render.h"
+
+using namespace isotrace;
+
+int main() {
+    Scene scene;
+    scene.camera.from = Vec3(0, 2.2, 3.2);
+    scene.camera.to = Vec3(0, 0, 0);
+    scene.film.width = 320;
+    scene.film.height = 240;
+    scene.film.samplesPerPixel = 4;
+    scene.integrator.maxDepth = 4;
+    Material clay;
+    clay.albedo = RGB(0.7, 0.6, 0.5);
+    scene.materials.push_back(clay);
+    scene.meshes.push_back(std::make_shared<TriangleMesh>(bench::tessellatedTorus(1000, 500, 1.0, 0.4)));
+    SceneObject torus;
+    scene.objects.push_back(torus);
+    scene.lights.push_back(Light::point(Vec3(2, 4, 3), RGB::Constant(30)));
+    scene.environmentLight = 1;
+    scene.lights.push_back(Light::environment(RGB::Constant(0.3)));
+    scene.commit();
+    const size_t triangles = scene.meshes[0]->triangleCount();
+
+    const PerspectiveCamera camera(scene.camera, scene.film.width, scene.film.height);
+    const int w = scene.film.width, h = scene.film.height;
+    std::printf("triangle scene: %zu triangles, %dx%d\n", triangles, w, h);
+    for (int threads : {1, 2}) {
+        tbb::task_arena arena(threads);
+        const int repeats = 8;  // camera rays per pixel
+        const double primary = bench::medianSeconds(5, [&] {
+            arena.execute([&] {
+                tbb::parallel_for(0, h, [&](int y) {
+                    for (int x = 0; x < w; ++x)
+                        for (int k = 0; k < repeats; ++k) {
+                            SurfaceHit hit;
+                            scene.intersect(camera.generateRay(x + (k + 0.5) / repeats, y + 0.5, {0, 0}), INFINITY, hit);
+                        }
+                });
+            });
+        });
+        const double path = bench::medianSeconds(5, [&] { render(scene, {.threads = threads, .seed = 1, .quiet = true}); });
+        const double rays = double(w) * h * repeats;
+        const double samples = double(w) * h * scene.film.samplesPerPixel;
+        std::printf("threads %d: primary rays %.2f Mrays/s, path tracing %.2f Msamples/s (max depth %d)\n", threads,
+                    rays / primary / 1e6, samples / path / 1e6, scene.integrator.maxDepth);
+    }
+}
