@@ -116,6 +116,7 @@ private:
         cam.focusDistance = c.number("focus_distance", 0.0);
         if (cam.focusDistance < 0) c.fail("focus_distance", "must not be negative");
         if (!((cam.to - cam.from).norm() > 0)) c.fail("to", "must differ from \"from\"");
+        if (cam.focusDistance == 0) cam.focusDistance = (cam.to - cam.from).norm();
         if (!((cam.to - cam.from).normalized().cross(cam.up).norm() > 1e-9)) c.fail("up", "must not be parallel to the view direction");
         c.finish();
     }

@@ -1,0 +1,78 @@
+#include "renderer/scene.h"
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "renderer/integrator.h"
+#include "support/scene_files.h"
+
+using namespace isotrace;
+using isotrace::testing::loadSceneText;
+using isotrace::testing::TemporaryFolder;
+
+namespace {
+const char* kShapes = R"({"materials": {"m": {"type": "diffuse"}},
+  "fields": {"ball": {"type": "sphere", "radius": 1},
+             "blob": {"type": "blobby", "blobs": [{"center": [-0.3, 0, 0], "radius": 1}, {"center": [0.4, 0.1, 0], "radius": 0.9}]}},
+  "objects": [{"field": "%FIELD%", "material": "m", "transform": {"translate": [0.5, -0.2, 0.1], "scale": 1.7}}]})";
+
+std::string withField(const std::string& field) {
+    std::string s = kShapes;
+    s.replace(s.find("%FIELD%"), 7, field);
+    return s;
+}
+}  // namespace
+
+// Rays leaving a convex surface into its outer hemisphere never hit it
+// again: no self-intersection acne (the offset origin clears the surface).
+TEST(Scene, RaysSpawnedOffAConvexImplicitNeverRehitIt) {
+    TemporaryFolder folder;
+    auto scene = loadSceneText(folder, withField("ball"));
+    std::mt19937_64 rng(8);
+    std::normal_distribution<double> n;
+    int hits = 0;
+    for (int trial = 0; trial < 5000; ++trial) {
+        const Vec3 target = Vec3(0.5, -0.2, 0.1) + 1.7 * Vec3(n(rng), n(rng), n(rng)).normalized();
+        const Vec3 origin = target + 6.0 * Vec3(n(rng), n(rng), n(rng)).normalized();
+        SurfaceHit hit;
+        if (!scene->intersect({origin, (target - origin).normalized()}, INFINITY, hit)) continue;
+        ++hits;
+        const Vec3 ng = hit.geometricNormal;
+        const Vec3 w = sampleCosineHemisphere(ng, {std::uniform_real_distribution<double>()(rng),
+                                                   std::uniform_real_distribution<double>()(rng)});
+        SurfaceHit again;
+        ASSERT_FALSE(scene->intersect({offsetOrigin(hit.position, ng, w), w}, INFINITY, again))
+            << "trial " << trial << " re-hit at t=" << again.t;
+    }
+    EXPECT_GT(hits, 2000);
+}
+
+// Rays spawned into the inner side of a surface (refraction, a ray
+// starting inside) find the far side, not the point they left.
+TEST(Scene, RaysSpawnedInsideFindTheFarSide) {
+    TemporaryFolder folder;
+    auto scene = loadSceneText(folder, withField("ball"));
+    std::mt19937_64 rng(9);
+    std::normal_distribution<double> n;
+    for (int trial = 0; trial < 2000; ++trial) {
+        const Vec3 c(0.5, -0.2, 0.1);
+        const Vec3 p = c + 1.7 * Vec3(n(rng), n(rng), n(rng)).normalized();
+        const Vec3 normal = (p - c).normalized();
+        const Vec3 w = sampleCosineHemisphere(-normal, {0.3 + 0.4 * (trial % 2), 0.001 * trial});
+        SurfaceHit hit;
+        ASSERT_TRUE(scene->intersect({offsetOrigin(p, normal, w), w}, INFINITY, hit)) << "trial " << trial;
+        // The chord from p along w has length 2 r cos(theta).
+        const double chord = 2 * 1.7 * (-normal).dot(w);
+        ASSERT_NEAR(hit.t, chord, 1e-3) << "trial " << trial;
+    }
+}
+
+TEST(Scene, ImplicitNormalsAreOutwardUnitGradientsUnderTransforms) {
+    TemporaryFolder folder;
+    auto scene = loadSceneText(folder, withField("blob"));
+    SurfaceHit hit;
+    ASSERT_TRUE(scene->intersect({Vec3(0.5, -0.2, 8), Vec3(0, 0, -1)}, INFINITY, hit));
+    EXPECT_NEAR(hit.geometricNormal.norm(), 1.0, 1e-9);
+    EXPECT_GT(hit.geometricNormal.z(), 0.5);
+}
