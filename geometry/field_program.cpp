@@ -165,7 +165,7 @@ double FieldProgram::valueAndGradient(const Vec3& p, Vec3& gradient) const {
     return slot[code_.size() - 1].value;
 }
 
-void FieldProgram::estimateSlots(const Box3& box, std::vector<BoxEstimate>& slots) const {
+void FieldProgram::estimateSlots(const Box3& box, std::vector<BoxEstimate>& slots, bool withLipschitz) const {
     slots.resize(code_.size());
     for (size_t i = 0; i < code_.size(); ++i) {
         const FieldInstruction& in = code_[i];
@@ -176,7 +176,8 @@ void FieldProgram::estimateSlots(const Box3& box, std::vector<BoxEstimate>& slot
                 const LeafPlacement& pl = leaf.placement;
                 const Box3 leafBox = pl.identity ? box : transformBox(pl.linear, pl.offset, box);
                 const Interval r = std::visit([&](const auto& s) { return s.range(leafBox); }, leaf.shape);
-                const double l = std::visit([&](const auto& s) { return s.lipschitz(leafBox); }, leaf.shape);
+                const double l =
+                    withLipschitz ? std::visit([&](const auto& s) { return s.lipschitz(leafBox); }, leaf.shape) : 0.0;
                 // Round-off in the leaf's own arithmetic is absorbed here.
                 out.range = widened(pl.valueScale * r);
                 out.lipschitz = l * pl.gradientScale * (1.0 + 1e-12);
@@ -226,6 +227,12 @@ BoxEstimate FieldProgram::estimate(const Box3& box) const {
     thread_local std::vector<BoxEstimate> slots;
     estimateSlots(box, slots);
     return slots.back();
+}
+
+Interval FieldProgram::range(const Box3& box) const {
+    thread_local std::vector<BoxEstimate> slots;
+    estimateSlots(box, slots, false);
+    return slots.back().range;
 }
 
 FieldProgram FieldProgram::prunedTo(const Box3& box) const {

@@ -87,6 +87,8 @@ public:
     double value(const Vec3& p) const;
     double valueAndGradient(const Vec3& p, Vec3& gradient) const;
     BoxEstimate estimate(const Box3& box) const;
+    /// The range alone (cheaper: no gradient bounds).
+    Interval range(const Box3& box) const;
     /// A program equal to this one everywhere inside `box`, without the
     /// operands that cannot matter there (dominated CSG operands, smooth
     /// blends whose operands are farther apart than the blend radius, blobs
@@ -103,7 +105,7 @@ public:
     const std::vector<FieldLeaf>& leaves() const { return leaves_; }
 
 private:
-    void estimateSlots(const Box3& box, std::vector<BoxEstimate>& slots) const;
+    void estimateSlots(const Box3& box, std::vector<BoxEstimate>& slots, bool withLipschitz = true) const;
     uint32_t push(const FieldInstruction& instruction, const Box3& slotBounds);
 
     std::vector<FieldInstruction> code_;

@@ -61,9 +61,9 @@ TraceResult ImplicitSurface::intersectCell(uint32_t index, const Vec3& origin, c
     double t0 = tNear, t1 = tFar;
     if (!clipRayToBox(cell.box, origin, direction, t0, t1)) return {};
     const FieldProgram& program = programs_[cell.program];
-    TraceResult r = sphereTrace(program, cell.lipschitz, origin, direction, t0, t1, settings_);
     TraceCounters& counters = threadTraceCounters();
     ++counters.marches;
+    TraceResult r = sphereTrace(program, cell.lipschitz, origin, direction, t0, t1, settings_);
     counters.steps += r.steps;
     counters.evaluations += r.evaluations;
     // Hits exactly at tNear belong to the caller's previous surface.

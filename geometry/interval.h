@@ -51,9 +51,15 @@ inline Interval hull(Interval a, Interval b) { return {std::min(a.lo, b.lo), std
 inline Interval intersect(Interval a, Interval b) { return {std::max(a.lo, b.lo), std::min(a.hi, b.hi)}; }
 
 /// x^n for a whole n >= 0; even powers of a straddling interval start at 0.
+inline double wholePower(double x, int n) {
+    double r = 1.0;
+    for (; n > 0; n >>= 1, x *= x)
+        if (n & 1) r *= x;
+    return r;
+}
 inline Interval pow(Interval a, int n) {
     if (n == 0) return {1.0, 1.0};
-    const double pl = std::pow(a.lo, n), ph = std::pow(a.hi, n);
+    const double pl = wholePower(a.lo, n), ph = wholePower(a.hi, n);
     if (n % 2 == 1) return {pl, ph};
     if (a.containsZero()) return {0.0, std::max(pl, ph)};
     return {std::min(pl, ph), std::max(pl, ph)};
