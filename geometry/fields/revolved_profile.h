@@ -55,7 +55,9 @@ struct RevolvedProfileField {
         }
         const double sign = inside ? -1.0 : 1.0;
         const double cx = rho > 0 ? d.x() / rho : 1.0, cz = rho > 0 ? d.z() / rho : 0.0;
-        gradient = sign * Vec3(bestDirection.x() * cx, bestDirection.y(), bestDirection.x() * cz);
+        // On the boundary the direction already is the outward edge normal.
+        const double directionSign = best > 0 ? sign : 1.0;
+        gradient = directionSign * Vec3(bestDirection.x() * cx, bestDirection.y(), bestDirection.x() * cz);
         return sign * best;
     }
     Interval range(const Box3& box) const { return rangeFromLipschitz(value(box.center()), 1.0, box); }
