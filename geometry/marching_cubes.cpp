@@ -55,6 +55,15 @@ struct CubeTables {
                 faces[f++] = face;
             }
     }
+    /// Whether two cube edges lie on a common face.
+    bool shareFace(int e0, int e1) const {
+        for (const CubeFace& f : faces) {
+            const bool a = std::find(f.edges.begin(), f.edges.end(), e0) != f.edges.end();
+            const bool b = std::find(f.edges.begin(), f.edges.end(), e1) != f.edges.end();
+            if (a && b) return true;
+        }
+        return false;
+    }
     static Vec3 cornerOffset(int c) { return Vec3(c & 1, (c >> 1) & 1, (c >> 2) & 1); }
     Vec3 edgeMidpoint(int e) const { return 0.5 * (cornerOffset(edges[e].from) + cornerOffset(edges[e].to)); }
 };
@@ -159,12 +168,14 @@ private:
         for (int start = 0; start < 12; ++start) {
             if (next[start] < 0 || used[start]) continue;
             std::array<uint32_t, 12> loop;
+            std::array<int, 12> loopEdges;
             int n = 0;
             for (int e = start; !used[e]; e = next[e]) {
                 used[e] = true;
+                loopEdges[n] = e;
                 loop[n++] = edgeVertex(cell, e);
             }
-            emitLoop(cell, loop, n);
+            emitLoop(cell, loop, loopEdges, n);
         }
     }
 
@@ -219,15 +230,45 @@ private:
         return index;
     }
 
-    void emitLoop(const std::array<int, 3>& cell, const std::array<uint32_t, 12>& loop, int n) {
+    void emitLoop(const std::array<int, 3>& cell, const std::array<uint32_t, 12>& loop,
+                  const std::array<int, 12>& loopEdges, int n) {
         if (options_.sharpFeatures && n >= 3) {
             if (auto feature = featurePoint(cell, loop, n)) {
-                const uint32_t center = addVertex(kFeatureKey | out_.positions.size(), *feature);
-                for (int k = 0; k < n; ++k) addTriangle(center, loop[k], loop[(k + 1) % n]);
+                fan(addVertex(kFeatureKey | out_.positions.size(), *feature), loop, n);
                 return;
             }
         }
-        for (int k = 1; k + 1 < n; ++k) addTriangle(loop[0], loop[k], loop[k + 1]);
+        // Fan from a loop vertex whose diagonals leave every cube face: a
+        // diagonal between two vertices of one face would be drawn by the
+        // neighbouring cube as well, and its edge would join four triangles.
+        for (int apex = 0; apex < n; ++apex) {
+            bool clean = true;
+            for (int k = 2; k + 1 < n && clean; ++k)
+                clean = !tables().shareFace(loopEdges[apex], loopEdges[(apex + k) % n]);
+            if (!clean) continue;
+            for (int k = 1; k + 1 < n; ++k)
+                addTriangle(loop[apex], loop[(apex + k) % n], loop[(apex + k + 1) % n]);
+            return;
+        }
+        // Otherwise fan around a new vertex: the loop's mean, moved onto the surface.
+        Vec3 mean = Vec3::Zero();
+        for (int k = 0; k < n; ++k) mean += out_.positions[loop[k]];
+        mean /= n;
+        Vec3 p = mean;
+        for (int i = 0; i < 4; ++i) {
+            Vec3 g;
+            const double f = field_.valueAndGradient(p, g);
+            out_.evaluations++;
+            if (!(g.squaredNorm() > 0)) break;
+            p -= (f / g.squaredNorm()) * g;
+        }
+        const Vec3 lo = grid_.point(cell[0], cell[1], cell[2]);
+        if (!Box3(lo, lo + Vec3::Constant(grid_.h)).contains(p)) p = mean;
+        fan(addVertex(kFeatureKey | out_.positions.size(), p), loop, n);
+    }
+
+    void fan(uint32_t center, const std::array<uint32_t, 12>& loop, int n) {
+        for (int k = 0; k < n; ++k) addTriangle(center, loop[k], loop[(k + 1) % n]);
     }
 
     void addTriangle(uint32_t a, uint32_t b, uint32_t c) {
@@ -262,6 +303,12 @@ private:
         const Box3 box(lo, lo + Vec3::Constant(grid_.h));
         // A point outside its cell could fold the fan over its neighbours.
         if (!box.contains(x)) return std::nullopt;
+        // Where the normals merely turn fast (a smooth, tight bend) the planes
+        // meet off the surface: only a real edge or corner keeps its vertex.
+        Vec3 g;
+        const double f = field_.valueAndGradient(x, g);
+        ++out_.evaluations;
+        if (std::abs(f) > 0.05 * grid_.h * std::max(g.norm(), 1e-12)) return std::nullopt;
         // Every fan triangle must face along the normals of its loop
         // vertices, or the fan would fold: keep the plain loop then.
         for (int k = 0; k < n; ++k) {

@@ -4,9 +4,14 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <limits>
 #include <sstream>
 
+#include "geometry/field_parser.h"
 #include "geometry/input_error.h"
+#include "geometry/mesh_analysis.h"
+#include "geometry/polygonizer.h"
+#include "mesh_export.h"
 #include "image_output.h"
 #include "render.h"
 #include "scene_loader.h"
@@ -53,6 +58,7 @@ int runRender(const RenderCommand& cmd) {
     checkWritableFolder(output);
 
     std::unique_ptr<Scene> scene = loadScene(cmd.scene, overrides);
+    for (const std::string& w : scene->warnings) std::fprintf(stderr, "warning: %s: %s\n", cmd.scene.c_str(), w.c_str());
     RenderOptions options;
     options.threads = cmd.threads;
     options.seed = cmd.seed;
@@ -79,6 +85,68 @@ int runRender(const RenderCommand& cmd) {
     return 0;
 }
 
+struct PolygonizeCommand {
+    std::string scene, field, output, method = "marching_cubes";
+    int resolution = 0, threads = 0;
+    double tolerance = 0.0;
+    bool report = false;
+};
+
+int runPolygonize(const PolygonizeCommand& cmd) {
+    if (!isMeshExtension(cmd.output))
+        throw geometry::InputError(cmd.output, "", "unknown mesh format (use .ply, .obj or .off)");
+    checkWritableFolder(cmd.output);
+    const geometry::Json root = geometry::parseJsonFile(cmd.scene);
+    if (!root.is_object() || !root.contains("fields"))
+        throw geometry::InputError(cmd.scene, "/fields", "the scene has no \"fields\"");
+    const geometry::FieldLibrary library(root.at("fields"), "/fields", cmd.scene);
+    if (!library.contains(cmd.field)) {
+        std::string message = "unknown field \"" + cmd.field + "\"";
+        if (auto near = geometry::nearestName(cmd.field, library.names())) message += " (did you mean \"" + *near + "\"?)";
+        throw geometry::InputError(cmd.scene, "/fields", message);
+    }
+    const geometry::FieldProgram field = library.compile(cmd.field);
+    geometry::PolygonizeOptions options;
+    options.method = cmd.method == "adaptive" ? geometry::PolygonizeMethod::Adaptive
+                                              : geometry::PolygonizeMethod::MarchingCubes;
+    options.resolution = cmd.resolution;
+    options.tolerance = cmd.tolerance;
+    options.threads = cmd.threads;
+    geometry::Polygonization result;
+    try {
+        result = geometry::polygonize(field, options);
+    } catch (const std::invalid_argument& e) {
+        throw geometry::InputError(cmd.scene, geometry::jsonPointerAppend("/fields", cmd.field), e.what());
+    }
+    for (const std::string& w : result.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+    writeMesh(cmd.output, result.mesh);
+    if (cmd.report) {
+        const geometry::MeshTopology t = geometry::analyzeTopology(result.mesh);
+        const geometry::MeshAccuracy a = geometry::measureAccuracy(result.mesh, field);
+        const geometry::Json report = {
+            {"field", cmd.field},
+            {"method", cmd.method},
+            {"resolution", result.resolution},
+            {"triangles", t.triangles},
+            {"vertices", t.vertices},
+            {"watertight", t.watertight()},
+            {"manifold", t.manifold()},
+            {"consistently_oriented", t.oriented()},
+            {"euler_characteristic", t.eulerCharacteristic},
+            {"max_vertex_distance", a.maxVertexDistance},
+            {"mean_vertex_distance", a.meanVertexDistance},
+            {"max_centroid_distance", a.maxCentroidDistance},
+            {"mean_centroid_distance", a.meanCentroidDistance},
+            {"max_normal_deviation_degrees", a.maxNormalDeviationDegrees},
+            {"mean_normal_deviation_degrees", a.meanNormalDeviationDegrees},
+            {"worst_aspect_ratio", a.worstAspectRatio},
+            {"seconds", result.seconds},
+        };
+        std::printf("%s\n", report.dump(2).c_str());
+    }
+    return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -102,6 +170,20 @@ int main(int argc, char** argv) {
     renderApp->add_flag("--no-preview", render.noPreview, "Do not write the PNG preview");
     renderApp->add_flag("-q,--quiet", render.quiet, "No progress output");
 
+    PolygonizeCommand polygonize;
+    CLI::App* polygonizeApp = app.add_subcommand("polygonize", "Turn a field of a scene into a triangle mesh (PLY, OBJ, OFF)");
+    polygonizeApp->add_option("scene", polygonize.scene, "Scene file whose \"fields\" hold the field")->required();
+    polygonizeApp->add_option("--field", polygonize.field, "Name of the field")->required();
+    polygonizeApp->add_option("-o,--output", polygonize.output, "Output mesh: .ply (binary), .obj or .off")->required();
+    polygonizeApp->add_option("--method", polygonize.method, "marching_cubes (uniform) or adaptive (sharp features, simplified)")
+        ->check(CLI::IsMember({"marching_cubes", "adaptive"}));
+    polygonizeApp->add_option("--resolution", polygonize.resolution, "Cells along the longest side of the bounds (default 128)")
+        ->check(CLI::Range(1, std::numeric_limits<int>::max()));
+    polygonizeApp->add_option("--tolerance", polygonize.tolerance, "Largest distance of vertices and face centres to the surface")
+        ->check(CLI::PositiveNumber);
+    polygonizeApp->add_option("--threads", polygonize.threads, "Worker threads (default: all cores)")->check(CLI::Range(1, 4096));
+    polygonizeApp->add_flag("--report", polygonize.report, "Print counts, topology and accuracy as JSON");
+
     try {
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp& e) {
@@ -117,6 +199,7 @@ int main(int argc, char** argv) {
 
     try {
         if (*renderApp) return runRender(render);
+        if (*polygonizeApp) return runPolygonize(polygonize);
     } catch (const geometry::InputError& e) {
         std::fprintf(stderr, "error: %s\n", e.what());
         return kExitBadInput;

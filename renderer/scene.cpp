@@ -31,6 +31,12 @@ void Scene::commit() {
     std::vector<RTCScene> meshScenes, surfaceScenes;
     for (const auto& mesh : meshes) {
         RTCScene s = rtcNewScene(device_);
+        if (mesh->triangleCount() == 0) {  // an empty polygonization: nothing to hit
+            rtcCommitScene(s);
+            meshScenes.push_back(s);
+            shapeScenes_.push_back(s);
+            continue;
+        }
         RTCGeometry g = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
         rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, mesh->positions.data(), 0,
                                    3 * sizeof(float), mesh->vertexCount());

@@ -74,6 +74,8 @@ public:
     std::vector<SceneObject> objects;
     std::vector<Light> lights;
     int environmentLight = -1;
+    /// Things a user should hear about that are not errors (an empty mesh).
+    std::vector<std::string> warnings;
 
     /// Builds Embree's structures; call once after filling the contents.
     void commit();

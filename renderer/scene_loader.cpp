@@ -9,6 +9,7 @@
 
 #include "geometry/field_parser.h"
 #include "geometry/json_reader.h"
+#include "geometry/polygonizer.h"
 
 namespace isotrace {
 
@@ -300,22 +301,33 @@ private:
                 r.fail("field", message);
             }
             std::string as = r.choice("as", {"implicit", "mesh"}, "implicit");
+            // Mesh settings are read whatever "as" says, so --as can switch.
+            geometry::PolygonizeOptions polygonize;
+            polygonize.method = r.choice("method", {"marching_cubes", "adaptive"}, "marching_cubes") == "adaptive"
+                                    ? geometry::PolygonizeMethod::Adaptive
+                                    : geometry::PolygonizeMethod::MarchingCubes;
+            polygonize.resolution =
+                static_cast<int>(r.integer("resolution", 0, 1, geometry::kMaxPolygonizeResolution));
+            polygonize.tolerance = r.has("tolerance") ? r.positiveNumber("tolerance") : 0.0;
             if (overrides_.fieldMode == SceneOverrides::FieldMode::Implicit) as = "implicit";
             if (overrides_.fieldMode == SceneOverrides::FieldMode::Mesh) as = "mesh";
-            if (as == "mesh")
-                r.fail("as", "rendering a field as a polygonized mesh is not available yet; use \"implicit\"");
-            o.kind = SceneObject::Kind::Implicit;
-            auto it = surfaceIndex_.find(field);
-            if (it == surfaceIndex_.end()) {
-                geometry::FieldProgram program = fields_.compile(field);
-                try {
-                    scene_->surfaces.push_back(std::make_unique<geometry::ImplicitSurface>(std::move(program)));
-                } catch (const std::invalid_argument& e) {
-                    throw InputError(path_, jsonPointerAppend("/fields", field), e.what());
+            if (as == "mesh") {
+                o.kind = SceneObject::Kind::Mesh;
+                o.shape = polygonizedMesh(field, polygonize, r);
+            } else {
+                o.kind = SceneObject::Kind::Implicit;
+                auto it = surfaceIndex_.find(field);
+                if (it == surfaceIndex_.end()) {
+                    geometry::FieldProgram program = fields_.compile(field);
+                    try {
+                        scene_->surfaces.push_back(std::make_unique<geometry::ImplicitSurface>(std::move(program)));
+                    } catch (const std::invalid_argument& e) {
+                        throw InputError(path_, jsonPointerAppend("/fields", field), e.what());
+                    }
+                    it = surfaceIndex_.emplace(field, int(scene_->surfaces.size() - 1)).first;
                 }
-                it = surfaceIndex_.emplace(field, int(scene_->surfaces.size() - 1)).first;
+                o.shape = it->second;
             }
-            o.shape = it->second;
         } else {
             o.kind = SceneObject::Kind::Mesh;
             std::string key = hasMesh ? "mesh" : "vertices";
@@ -354,6 +366,33 @@ private:
         scene_->objects.push_back(o);
     }
 
+    // One mesh per field and settings, shared by every object that uses it.
+    int polygonizedMesh(const std::string& field, const geometry::PolygonizeOptions& options, JsonObjectReader& r) {
+        const std::string key = field + "|" + std::to_string(int(options.method)) + "|" +
+                                std::to_string(options.resolution) + "|" + std::to_string(options.tolerance);
+        if (const auto it = meshIndex_.find(key); it != meshIndex_.end()) return it->second;
+        geometry::Polygonization result;
+        try {
+            result = geometry::polygonize(fields_.compile(field), options);
+        } catch (const std::invalid_argument& e) {
+            r.failHere(std::string("cannot polygonize field \"") + field + "\": " + e.what());
+        }
+        for (const std::string& w : result.warnings) scene_->warnings.push_back(r.pointer() + ": " + w);
+        TriangleMesh mesh;
+        for (size_t v = 0; v < result.mesh.vertices.size(); ++v)
+            for (int k = 0; k < 3; ++k) {
+                mesh.positions.push_back(float(result.mesh.vertices[v][k]));
+                mesh.normals.push_back(float(result.mesh.normals[v][k]));
+            }
+        for (const auto& t : result.mesh.triangles) mesh.indices.insert(mesh.indices.end(), t.begin(), t.end());
+        // Slivers that round to zero area in single precision carry no surface.
+        mesh.dropDegenerateTriangles();
+        const int index = static_cast<int>(scene_->meshes.size());
+        scene_->meshes.push_back(std::make_shared<TriangleMesh>(std::move(mesh)));
+        meshIndex_.emplace(key, index);
+        return index;
+    }
+
     void addAreaLightsOfEmissiveMeshes() {
         for (SceneObject& o : scene_->objects) {
             const Material& m = scene_->materials[o.material];
@@ -380,6 +419,7 @@ private:
     geometry::FieldLibrary fields_;
     std::map<std::string, int> materialIndex_;
     std::map<std::string, int> surfaceIndex_;
+    std::map<std::string, int> meshIndex_;
 };
 
 }  // namespace
