@@ -3,6 +3,8 @@
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
 
+#include <nlohmann/json.hpp>
+
 #include "support/run_command.h"
 #include "support/temporary_files.h"
 
@@ -113,4 +115,70 @@ TEST(CommandLine, MissingSceneAndUnwritableOutput) {
     const auto noFolder = runIsotrace("render " + scene + " -o " + folder.file("no/such/folder/o.exr"));
     EXPECT_EQ(noFolder.exitCode, 2);
     EXPECT_NE(noFolder.output.find("does not exist"), std::string::npos) << noFolder.output;
+}
+
+namespace {
+const char* kFieldScene = R"({"materials": {"m": {"type": "diffuse"}},
+  "fields": {"ring": {"type": "torus", "major": 1, "minor": 0.3},
+             "open": {"type": "plane"},
+             "nothing": {"type": "intersection", "of": [{"type": "sphere", "radius": 1},
+                                                         {"type": "sphere", "center": [5, 0, 0], "radius": 1}]}},
+  "objects": [{"field": "ring", "material": "m"}]})";
+}  // namespace
+
+TEST(CommandLine, PolygonizeWritesTheMeshAndAReport) {
+    TemporaryFolder folder;
+    const std::string scene = folder.write("s.json", kFieldScene);
+    const auto r = runIsotrace("polygonize " + scene + " --field ring -o " + folder.file("ring.ply") +
+                               " --resolution 40 --report");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    const auto report = nlohmann::json::parse(r.output);
+    EXPECT_EQ(report["euler_characteristic"], 0);
+    EXPECT_EQ(report["watertight"], true);
+    EXPECT_EQ(report["manifold"], true);
+    EXPECT_GT(report["triangles"].get<int>(), 1000);
+    EXPECT_LT(report["max_vertex_distance"].get<double>(), 1e-6);
+    EXPECT_TRUE(std::filesystem::exists(folder.file("ring.ply")));
+    const auto adaptive = runIsotrace("polygonize " + scene + " --field ring -o " + folder.file("ring.off") +
+                                      " --method adaptive --tolerance 0.01 --report");
+    ASSERT_EQ(adaptive.exitCode, 0) << adaptive.output;
+    const auto a = nlohmann::json::parse(adaptive.output);
+    EXPECT_LE(a["max_centroid_distance"].get<double>(), 0.01);
+    EXPECT_EQ(a["manifold"], true);
+}
+
+TEST(CommandLine, PolygonizeBadInput) {
+    TemporaryFolder folder;
+    const std::string scene = folder.write("s.json", kFieldScene);
+    struct Case {
+        std::string arguments, expect;
+        int exitCode;
+    };
+    const std::vector<Case> cases{
+        {"--field ring -o " + folder.file("a.ply") + " --resolution 0", "resolution", 2},
+        {"--field ring -o " + folder.file("b.ply") + " --resolution -3", "resolution", 2},
+        {"--field ring -o " + folder.file("c.ply") + " --resolution 200000", "GiB", 2},
+        {"--field open -o " + folder.file("d.ply"), "unbounded", 2},
+        {"--field rign -o " + folder.file("e.ply"), "did you mean \"ring\"", 2},
+        {"--field ring -o " + folder.file("f.stl"), "unknown mesh format", 2},
+        {"--field ring -o " + folder.file("no/folder/g.ply"), "does not exist", 2},
+    };
+    for (const Case& c : cases) {
+        const auto r = runIsotrace("polygonize " + scene + " " + c.arguments);
+        EXPECT_EQ(r.exitCode, c.exitCode) << c.arguments << ": " << r.output;
+        EXPECT_NE(r.output.find(c.expect), std::string::npos) << c.arguments << ": " << r.output;
+    }
+    EXPECT_EQ(filesIn(folder.path()), 1u) << "no mesh may be written";
+    // A field with no surface in its bounds: an empty mesh and a warning.
+    const auto empty = runIsotrace("polygonize " + scene + " --field nothing -o " + folder.file("empty.off"));
+    EXPECT_EQ(empty.exitCode, 0) << empty.output;
+    EXPECT_NE(empty.output.find("warning"), std::string::npos) << empty.output;
+}
+
+TEST(CommandLine, RenderSwitchesEveryFieldObjectToAMesh) {
+    TemporaryFolder folder;
+    const std::string scene = folder.write("ball.json", kSmallScene);
+    const auto r = runIsotrace("render " + scene + " --as mesh -o " + folder.file("m.exr") + " --quiet");
+    EXPECT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_EQ(runIsotrace("render " + scene + " --as triangles -o " + folder.file("x.exr")).exitCode, 2);
 }
