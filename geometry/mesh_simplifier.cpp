@@ -176,15 +176,10 @@ private:
         }
         facesOf_[u] = std::move(kept);
         facesOf_[v].clear();
+        // Only edges at u changed cost (its quadric and position); other
+        // candidates stay queued and are re-validated when popped.
         ++stamp_[u];
-        for (uint32_t w : neighbours(u)) {
-            ++stamp_[w];
-        }
-        for (uint32_t w : neighbours(u)) {
-            push(u, w);
-            for (uint32_t x : neighbours(w))
-                if (x != u) push(w, x);
-        }
+        for (uint32_t w : neighbours(u)) push(u, w);
     }
 
     void push(uint32_t a, uint32_t b) {

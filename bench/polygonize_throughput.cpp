@@ -1,0 +1,71 @@
+// Polygonization cost and quality: marching cubes at 256^3 on the sphere,
+// the tangle and the showcase CSG (wall time on 2 threads, triangles per
+// second); the triangles the adaptive mesher needs for the same maximum
+// surface distance; and render time of a field as implicit and as mesh at
+// that accuracy, measured in one run.
+#include <chrono>
+#include <cstdio>
+
+#include "bench_support.h"
+#include "geometry/field_parser.h"
+#include "geometry/marching_cubes.h"
+#include "geometry/mesh_analysis.h"
+#include "geometry/mesh_simplifier.h"
+#include "renderer/render.h"
+#include "renderer/scene_loader.h"
+
+using namespace isotrace;
+using namespace isotrace::geometry;
+
+int main() {
+    const std::string scenes = std::string(ISOTRACE_SOURCE_DIR) + "/scenes";
+    const Json showcase = parseJsonFile(scenes + "/showcase.json");
+    const FieldLibrary showcaseFields(showcase.at("fields"), "/fields", "showcase.json");
+    const FieldLibrary inline_(Json::parse(R"({"sphere": {"type": "sphere", "radius": 1},
+                                                 "tangle": {"type": "polynomial", "preset": "tangle"}})"),
+                               "/fields", "bench");
+    struct Entry {
+        const char* name;
+        FieldProgram field;
+    };
+    const Entry entries[] = {{"sphere", inline_.compile("sphere")},
+                             {"tangle", inline_.compile("tangle")},
+                             {"cube_minus_ball", showcaseFields.compile("cube_minus_ball")}};
+
+    std::printf("%-16s %9s %11s %12s %14s %12s %10s %8s\n", "field", "MC 256^3", "triangles", "Mtris/s", "max distance",
+                "adaptive", "ratio", "time");
+    for (const Entry& e : entries) {
+        MarchingCubesOptions o;
+        o.resolution = 256;
+        o.threads = 2;
+        IndexedMesh mc;
+        const double seconds = bench::medianSeconds(3, [&] { mc = marchingCubes(e.field, e.field.bounds(), o); });
+        const double target = measureAccuracy(mc, e.field).maxCentroidDistance;
+        // Adaptive: feature vertices, then simplification to the same bound.
+        const auto start = std::chrono::steady_clock::now();
+        o.sharpFeatures = true;
+        IndexedMesh adaptive = marchingCubes(e.field, e.field.bounds(), o);
+        simplifyMesh(adaptive, e.field, {.maxDistance = target});
+        const double adaptiveSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        const double reached = measureAccuracy(adaptive, e.field).maxCentroidDistance;
+        std::printf("%-16s %8.3fs %11zu %12.2f %14.2e %12zu %10.3f %7.1fs   (adaptive max distance %.2e)\n", e.name,
+                    seconds, mc.triangles.size(), mc.triangles.size() / seconds / 1e6, target, adaptive.triangles.size(),
+                    double(adaptive.triangles.size()) / double(mc.triangles.size()), adaptiveSeconds, reached);
+    }
+
+    // Render time, implicit against mesh, of the comparison scene's field.
+    std::printf("\nrender of scenes/comparison.json at 320x160, 16 spp, 2 threads (median of 3):\n");
+    for (auto mode : {SceneOverrides::FieldMode::Implicit, SceneOverrides::FieldMode::Mesh}) {
+        SceneOverrides overrides;
+        overrides.fieldMode = mode;
+        overrides.width = 320;
+        overrides.height = 160;
+        overrides.samplesPerPixel = 16;
+        const auto loadStart = std::chrono::steady_clock::now();
+        const auto scene = loadScene(scenes + "/comparison.json", overrides);
+        const double load = std::chrono::duration<double>(std::chrono::steady_clock::now() - loadStart).count();
+        const double seconds = bench::medianSeconds(3, [&] { render(*scene, {.threads = 2, .seed = 1, .quiet = true}); });
+        std::printf("  %-9s load %.2fs, render %.3fs\n", mode == SceneOverrides::FieldMode::Mesh ? "as mesh" : "implicit",
+                    load, seconds);
+    }
+}
