@@ -1,5 +1,7 @@
 #include "field_parser.h"
 
+#include "transform_description.h"
+
 #include <Eigen/SVD>
 #include <algorithm>
 #include <cmath>
@@ -366,29 +368,9 @@ uint32_t makeOffset(Compiler& c, JsonObjectReader& r, const LeafPlacement& p) {
 
 uint32_t makeTransform(Compiler& c, JsonObjectReader& r, const LeafPlacement& p) {
     // parent = T R S child: scale first, then rotate, then translate.
-    Mat3 scale = Mat3::Identity();
-    if (const Json* s = r.optionalValue("scale")) {
-        if (s->is_number()) {
-            const double v = JsonObjectReader::asNumber(*s, r.pointerOf("scale"), c.file());
-            if (!(v > 0)) r.fail("scale", "must be greater than 0");
-            scale = v * Mat3::Identity();
-        } else {
-            const Vec3 v = JsonObjectReader::asVec3(*s, r.pointerOf("scale"), c.file());
-            if ((v.array() <= 0).any()) r.fail("scale", "every factor must be greater than 0");
-            scale = v.asDiagonal();
-        }
-    }
-    Mat3 rotation = Mat3::Identity();
-    if (r.has("rotate")) {
-        JsonObjectReader rot = r.object("rotate");
-        const Vec3 axis = rot.vec3("axis");
-        const double degrees = rot.number("angle");
-        rot.finish();
-        if (!(axis.norm() > 0)) rot.fail("axis", "must not be the zero vector");
-        rotation = Eigen::AngleAxisd(degrees * std::numbers::pi / 180.0, axis.normalized()).toRotationMatrix();
-    }
-    const Vec3 translate = r.vec3("translate", Vec3::Zero());
-    const Mat3 a = rotation * scale;
+    const AffineDescription affine = readScaleRotateTranslate(r);
+    const Mat3& a = affine.linear;
+    const Vec3& translate = affine.translation;
     const Mat3 inverse = a.inverse();
     const double sigma = Eigen::JacobiSVD<Mat3>(a).singularValues()(2);
     return c.operand(r, p.composed(inverse, -inverse * translate, sigma));

@@ -10,6 +10,7 @@
 #include "geometry/field_parser.h"
 #include "geometry/json_reader.h"
 #include "geometry/polygonizer.h"
+#include "geometry/transform_description.h"
 
 namespace isotrace {
 
@@ -47,23 +48,9 @@ Mat4 readTransform(JsonObjectReader& r) {
         for (const char* key : {"translate", "rotate", "scale"})
             if (r.has(key)) r.fail(key, "give either \"matrix\" or translate/rotate/scale, not both");
     } else {
-        // Scale, then rotate, then translate.
-        Mat3 scale = Mat3::Identity();
-        if (const Json* s = r.optionalValue("scale")) {
-            if (s->is_number()) scale *= JsonObjectReader::asNumber(*s, r.pointerOf("scale"), r.file());
-            else scale = JsonObjectReader::asVec3(*s, r.pointerOf("scale"), r.file()).asDiagonal();
-        }
-        Mat3 rotation = Mat3::Identity();
-        if (r.has("rotate")) {
-            JsonObjectReader rot = r.object("rotate");
-            const Vec3 axis = rot.vec3("axis");
-            const double angle = rot.number("angle");
-            rot.finish();
-            if (!(axis.norm() > 0)) rot.fail("axis", "must not be the zero vector");
-            rotation = Eigen::AngleAxisd(angle * std::numbers::pi / 180.0, axis.normalized()).toRotationMatrix();
-        }
-        m.topLeftCorner<3, 3>() = rotation * scale;
-        m.topRightCorner<3, 1>() = r.vec3("translate", Vec3::Zero());
+        const geometry::AffineDescription affine = geometry::readScaleRotateTranslate(r);
+        m.topLeftCorner<3, 3>() = affine.linear;
+        m.topRightCorner<3, 1>() = affine.translation;
     }
     const double det = m.topLeftCorner<3, 3>().determinant();
     if (!(std::abs(det) > 1e-12) || !std::isfinite(det)) r.failHere("transform is singular (determinant " + std::to_string(det) + ")");

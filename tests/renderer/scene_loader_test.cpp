@@ -159,7 +159,9 @@ TEST(SceneLoader, TransformsOfEveryForm) {
     };
     EXPECT_EQ(sceneError(folder, withTransform(R"({"translate": [1, 0, 0], "rotate": {"axis": [0, 1, 0], "angle": 45}, "scale": 2})")), "");
     EXPECT_EQ(sceneError(folder, withTransform(R"({"matrix": [[1,0,0,1],[0,1,0,0],[0,0,1,0],[0,0,0,1]]})")), "");
-    expectError(sceneError(folder, withTransform(R"({"scale": 0})")), "/objects/0/transform", "singular");
+    expectError(sceneError(folder, withTransform(R"({"scale": 0})")), "/objects/0/transform/scale", "greater than 0");
+    expectError(sceneError(folder, withTransform(R"({"matrix": [[1,0,0,0],[0,0,0,0],[0,0,1,0],[0,0,0,1]]})")),
+                "/objects/0/transform", "singular");
     expectError(sceneError(folder, withTransform(R"({"matrix": [[1,0,0,1],[0,1,0,0],[0,0,1,0],[0,0,1,1]]})")),
                 "/objects/0/transform/matrix", "affine");
 }
