@@ -41,6 +41,14 @@ void writeBuffer(const std::string& path, const OIIO::ImageSpec& spec, OIIO::Typ
 void writeImage(const std::string& path, const Image& image, const ImageMetadata& metadata, bool half) {
     OIIO::ImageSpec spec(image.width, image.height, 3, half ? OIIO::TypeDesc::HALF : OIIO::TypeDesc::FLOAT);
     spec.channelnames = {"R", "G", "B"};
+    // A window of a larger frame keeps its place (EXR data window inside
+    // the display window), which is what `isotrace merge` reads back.
+    spec.x = image.x;
+    spec.y = image.y;
+    spec.full_x = 0;
+    spec.full_y = 0;
+    spec.full_width = image.fullWidth > 0 ? image.fullWidth : image.width;
+    spec.full_height = image.fullHeight > 0 ? image.fullHeight : image.height;
     for (const auto& [name, value] : metadata.strings) spec.attribute(name, value);
     writeBuffer(path, spec, OIIO::TypeDesc::FLOAT, image.rgb.data());  // OIIO converts to half if asked
 }
@@ -65,16 +73,29 @@ std::string previewPathFor(const std::string& exrPath) {
     return p.string();
 }
 
-Image readImage(const std::string& path) {
+std::string metadataValue(const ImageMetadata& metadata, const std::string& name) {
+    for (const auto& [key, value] : metadata.strings)
+        if (key == name) return value;
+    return "";
+}
+
+Image readImage(const std::string& path, ImageMetadata* metadata) {
     auto in = OIIO::ImageInput::open(path);
     if (!in) throw std::runtime_error(path + ": cannot read image: " + OIIO::geterror());
     const OIIO::ImageSpec& spec = in->spec();
     Image image;
     image.width = spec.width;
     image.height = spec.height;
+    image.x = spec.x;
+    image.y = spec.y;
+    image.fullWidth = spec.full_width;
+    image.fullHeight = spec.full_height;
     std::vector<float> all(size_t(spec.width) * spec.height * spec.nchannels);
     if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, all.data()))
         throw std::runtime_error(path + ": cannot read image: " + in->geterror());
+    if (metadata)
+        for (const OIIO::ParamValue& p : spec.extra_attribs)
+            if (p.type() == OIIO::TypeDesc::STRING) metadata->strings.emplace_back(p.name().string(), p.get_string());
     image.rgb.resize(size_t(spec.width) * spec.height * 3);
     for (size_t p = 0; p < size_t(spec.width) * spec.height; ++p)
         for (int c = 0; c < 3; ++c) image.rgb[3 * p + c] = all[p * spec.nchannels + std::min(c, spec.nchannels - 1)];

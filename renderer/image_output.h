@@ -22,7 +22,11 @@ void writeImage(const std::string& path, const Image& image, const ImageMetadata
 void writePreviewPng(const std::string& path, const Image& image, double exposure);
 /// The preview's name next to an output: out.exr -> out.png.
 std::string previewPathFor(const std::string& exrPath);
-/// Reads an image as RGB float (first three channels); throws naming the path.
-Image readImage(const std::string& path);
+/// Reads an image as RGB float (first three channels), with its window in
+/// the full frame; throws std::runtime_error naming the path. `metadata`,
+/// when given, receives the string attributes.
+Image readImage(const std::string& path, ImageMetadata* metadata = nullptr);
+/// The value of a metadata entry, or "" when absent.
+std::string metadataValue(const ImageMetadata& metadata, const std::string& name);
 
 }  // namespace isotrace

@@ -3,6 +3,7 @@
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <limits>
 #include <sstream>
@@ -12,6 +13,7 @@
 #include "geometry/mesh_analysis.h"
 #include "geometry/polygonizer.h"
 #include "mesh_export.h"
+#include "compare_command.h"
 #include "image_output.h"
 #include "render.h"
 #include "scene_loader.h"
@@ -31,7 +33,49 @@ struct RenderCommand {
     bool quiet = false, half = false, noPreview = false;
     double exposure = 0.0;
     std::string as;
+    std::vector<int> crop;  ///< x0 y0 x1 y1
+    std::string tile;       ///< "I/N"
 };
+
+// FNV-1a of the scene file's bytes: tiles of one frame must come from the
+// same scene text, wherever it was stored.
+std::string sceneHash(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    uint64_t h = 1469598103934665603ULL;
+    char c;
+    while (in.get(c)) {
+        h ^= static_cast<unsigned char>(c);
+        h *= 1099511628211ULL;
+    }
+    char text[17];
+    std::snprintf(text, sizeof text, "%016llx", static_cast<unsigned long long>(h));
+    return text;
+}
+
+// The window asked for by --crop or --tile, checked against the frame.
+PixelWindow requestedWindow(const RenderCommand& cmd, int width, int height) {
+    if (!cmd.crop.empty() && !cmd.tile.empty())
+        throw geometry::InputError("command line", "", "give either --crop or --tile, not both");
+    if (!cmd.crop.empty()) {
+        const PixelWindow w{cmd.crop[0], cmd.crop[1], cmd.crop[2], cmd.crop[3]};
+        if (w.x0 < 0 || w.y0 < 0 || w.x1 > width || w.y1 > height || w.empty())
+            throw geometry::InputError("command line", "", "--crop " + std::to_string(w.x0) + " " + std::to_string(w.y0) + " " +
+                                                   std::to_string(w.x1) + " " + std::to_string(w.y1) +
+                                                   " is not a non-empty window of the " + std::to_string(width) + "x" +
+                                                   std::to_string(height) + " frame (columns x0..x1, rows y0..y1, end excluded)");
+        return w;
+    }
+    if (!cmd.tile.empty()) {
+        int i = -1, n = 0;
+        char slash = 0;
+        std::istringstream in(cmd.tile);
+        if (!(in >> i >> slash >> n) || slash != '/' || !in.eof() || n < 1 || i < 0 || i >= n || n > height)
+            throw geometry::InputError("command line", "", "--tile takes I/N with 0 <= I < N <= image height, found \"" + cmd.tile + "\"");
+        // Bands of whole rows, as even as the height allows.
+        return {0, int(int64_t(i) * height / n), width, int(int64_t(i + 1) * height / n)};
+    }
+    return {};
+}
 
 std::string describeCamera(const CameraSettings& c) {
     std::ostringstream s;
@@ -60,6 +104,7 @@ int runRender(const RenderCommand& cmd) {
     std::unique_ptr<Scene> scene = loadScene(cmd.scene, overrides);
     for (const std::string& w : scene->warnings) std::fprintf(stderr, "warning: %s: %s\n", cmd.scene.c_str(), w.c_str());
     RenderOptions options;
+    options.crop = requestedWindow(cmd, scene->film.width, scene->film.height);
     options.threads = cmd.threads;
     options.seed = cmd.seed;
     options.quiet = cmd.quiet;
@@ -69,6 +114,7 @@ int runRender(const RenderCommand& cmd) {
     ImageMetadata meta;
     meta.strings = {{"Software", std::string("isotrace ") + kVersion},
                     {"isotrace:scene", cmd.scene},
+                    {"isotrace:scene_hash", sceneHash(cmd.scene)},
                     {"isotrace:spp", std::to_string(scene->film.samplesPerPixel)},
                     {"isotrace:seed", std::to_string(cmd.seed)},
                     {"isotrace:render_seconds", std::to_string(stats.seconds)},
@@ -147,6 +193,71 @@ int runPolygonize(const PolygonizeCommand& cmd) {
     return 0;
 }
 
+struct MergeCommand {
+    std::vector<std::string> tiles;
+    std::string output;
+    bool half = false;
+};
+
+// Reassembles windows of one frame. They must come from the same scene,
+// seed, sample count and frame size, and cover the frame exactly once.
+int runMerge(const MergeCommand& cmd) {
+    checkWritableFolder(cmd.output);
+    Image full;
+    ImageMetadata first;
+    std::vector<int> owner;
+    const char* mustMatch[] = {"isotrace:scene_hash", "isotrace:seed", "isotrace:spp", "isotrace:integrator"};
+    for (size_t t = 0; t < cmd.tiles.size(); ++t) {
+        const std::string& path = cmd.tiles[t];
+        ImageMetadata meta;
+        Image tile;
+        try {
+            tile = readImage(path, &meta);
+        } catch (const std::exception& e) {
+            throw geometry::InputError(path, "", e.what());
+        }
+        if (metadataValue(meta, "isotrace:seed").empty())
+            throw geometry::InputError(path, "", "not an isotrace render (no isotrace metadata)");
+        if (t == 0) {
+            first = meta;
+            full.width = full.fullWidth = tile.fullWidth;
+            full.height = full.fullHeight = tile.fullHeight;
+            full.rgb.assign(size_t(full.width) * full.height * 3, 0.0f);
+            owner.assign(size_t(full.width) * full.height, -1);
+        } else {
+            if (tile.fullWidth != full.width || tile.fullHeight != full.height)
+                throw geometry::InputError(path, "", "frame size " + std::to_string(tile.fullWidth) + "x" +
+                                                         std::to_string(tile.fullHeight) + " differs from " +
+                                                         cmd.tiles[0] + "'s " + std::to_string(full.width) + "x" +
+                                                         std::to_string(full.height));
+            for (const char* key : mustMatch)
+                if (metadataValue(meta, key) != metadataValue(first, key))
+                    throw geometry::InputError(path, "", std::string(key) + " is \"" + metadataValue(meta, key) + "\" but " +
+                                                             cmd.tiles[0] + " has \"" + metadataValue(first, key) +
+                                                             "\": tiles of different renders");
+        }
+        for (int y = 0; y < tile.height; ++y)
+            for (int x = 0; x < tile.width; ++x) {
+                const int fx = tile.x + x, fy = tile.y + y;
+                if (fx < 0 || fy < 0 || fx >= full.width || fy >= full.height)
+                    throw geometry::InputError(path, "", "its window lies outside the frame");
+                int& o = owner[size_t(fy) * full.width + fx];
+                if (o >= 0)
+                    throw geometry::InputError(path, "", "overlaps " + cmd.tiles[o] + " at pixel (" + std::to_string(fx) +
+                                                             ", " + std::to_string(fy) + ")");
+                o = int(t);
+                std::copy_n(tile.pixel(x, y), 3, full.pixel(fx, fy));
+            }
+    }
+    for (size_t p = 0; p < owner.size(); ++p)
+        if (owner[p] < 0)
+            throw geometry::InputError(cmd.tiles[0], "", "the tiles do not cover the frame: pixel (" +
+                                                             std::to_string(p % full.width) + ", " +
+                                                             std::to_string(p / full.width) + ") is missing");
+    writeImage(cmd.output, full, first, cmd.half);
+    return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -167,6 +278,10 @@ int main(int argc, char** argv) {
     renderApp->add_option("--as", render.as, "Render every field object as a mesh or as an implicit")
         ->check(CLI::IsMember({"mesh", "implicit"}));
     renderApp->add_flag("--half", render.half, "Write half-float EXR");
+    renderApp->add_option("--crop", render.crop, "Render only columns X0..X1 and rows Y0..Y1 (end excluded)")
+        ->expected(4)->type_name("X0 Y0 X1 Y1");
+    renderApp->add_option("--tile", render.tile, "Render band I of N bands of rows (0 <= I < N), for isotrace merge")
+        ->type_name("I/N");
     renderApp->add_flag("--no-preview", render.noPreview, "Do not write the PNG preview");
     renderApp->add_flag("-q,--quiet", render.quiet, "No progress output");
 
@@ -184,6 +299,15 @@ int main(int argc, char** argv) {
     polygonizeApp->add_option("--threads", polygonize.threads, "Worker threads (default: all cores)")->check(CLI::Range(1, 4096));
     polygonizeApp->add_flag("--report", polygonize.report, "Print counts, topology and accuracy as JSON");
 
+    MergeCommand merge;
+    CLI::App* mergeApp = app.add_subcommand("merge", "Reassemble tiles (--crop/--tile renders) into the full frame");
+    mergeApp->add_option("tiles", merge.tiles, "Tile EXRs")->required();
+    mergeApp->add_option("-o,--output", merge.output, "The full frame")->required();
+    mergeApp->add_flag("--half", merge.half, "Write half-float EXR");
+
+    CompareCommand compare;
+    addCompareCommand(app, compare);
+
     try {
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp& e) {
@@ -200,6 +324,8 @@ int main(int argc, char** argv) {
     try {
         if (*renderApp) return runRender(render);
         if (*polygonizeApp) return runPolygonize(polygonize);
+        if (*mergeApp) return runMerge(merge);
+        if (app.got_subcommand("compare")) return runCompare(compare);
     } catch (const geometry::InputError& e) {
         std::fprintf(stderr, "error: %s\n", e.what());
         return kExitBadInput;

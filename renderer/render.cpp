@@ -15,21 +15,28 @@ namespace isotrace {
 Image render(const Scene& scene, const RenderOptions& options, RenderStatistics* statistics) {
     const auto start = std::chrono::steady_clock::now();
     const FilmSettings& film = scene.film;
+    const PixelWindow window = options.crop.empty() ? PixelWindow{0, 0, film.width, film.height} : options.crop;
     Image image;
-    image.width = film.width;
-    image.height = film.height;
-    image.rgb.assign(size_t(film.width) * film.height * 3, 0.0f);
+    image.width = window.x1 - window.x0;
+    image.height = window.y1 - window.y0;
+    image.x = window.x0;
+    image.y = window.y0;
+    image.fullWidth = film.width;
+    image.fullHeight = film.height;
+    image.rgb.assign(size_t(image.width) * image.height * 3, 0.0f);
 
     const PerspectiveCamera camera(scene.camera, film.width, film.height);
     const std::unique_ptr<Integrator> integrator = makeIntegrator(scene);
     constexpr int kTile = 16;
-    const int tilesX = (film.width + kTile - 1) / kTile, tilesY = (film.height + kTile - 1) / kTile;
+    const int tilesX = (image.width + kTile - 1) / kTile, tilesY = (image.height + kTile - 1) / kTile;
     ProgressReporter progress(static_cast<long long>(tilesX) * tilesY, "render", options.quiet);
     std::atomic<long long> nonFinite{0};
 
     auto renderTile = [&](int tile) {
-        const int x0 = (tile % tilesX) * kTile, y0 = (tile / tilesX) * kTile;
-        const int x1 = std::min(x0 + kTile, film.width), y1 = std::min(y0 + kTile, film.height);
+        // Pixel coordinates are those of the full frame: a pixel's samples
+        // depend on them alone, not on the window.
+        const int x0 = window.x0 + (tile % tilesX) * kTile, y0 = window.y0 + (tile / tilesX) * kTile;
+        const int x1 = std::min(x0 + kTile, window.x1), y1 = std::min(y0 + kTile, window.y1);
         Sampler sampler(film.sampler, options.seed);
         long long dropped = 0;
         for (int y = y0; y < y1; ++y) {
@@ -44,7 +51,7 @@ Image render(const Scene& scene, const RenderOptions& options, RenderStatistics*
                     if (L.allFinite()) sum += L;
                     else ++dropped;
                 }
-                float* out = image.pixel(x, y);
+                float* out = image.pixel(x - window.x0, y - window.y0);
                 for (int c = 0; c < 3; ++c) out[c] = float(sum[c] / film.samplesPerPixel);
             }
         }

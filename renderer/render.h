@@ -9,15 +9,28 @@
 
 namespace isotrace {
 
+/// Pixels of a frame, or of a window of it (a crop or tile): pixel (0, 0)
+/// of the image is pixel (x, y) of the full frame.
 struct Image {
     int width = 0, height = 0;
+    int x = 0, y = 0;                      ///< the window's place in the full frame
+    int fullWidth = 0, fullHeight = 0;     ///< the full frame (0: same as width, height)
     std::vector<float> rgb;  ///< row-major, three floats per pixel
     float* pixel(int x, int y) { return &rgb[3 * (size_t(y) * width + x)]; }
     const float* pixel(int x, int y) const { return &rgb[3 * (size_t(y) * width + x)]; }
 };
 
+/// A window of the frame: columns [x0, x1) and rows [y0, y1).
+struct PixelWindow {
+    int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+    bool empty() const { return x1 <= x0 || y1 <= y0; }
+};
+
 struct RenderOptions {
     int threads = 0;  ///< 0: all cores
+    /// Render only this window of the frame (empty: the whole frame). Every
+    /// pixel gets the same bits as in a whole render.
+    PixelWindow crop;
     uint64_t seed = 0;
     bool quiet = false;
 };

@@ -5,6 +5,10 @@
 
 #include <nlohmann/json.hpp>
 
+#include <cstring>
+
+#include "renderer/image_output.h"
+
 #include "support/run_command.h"
 #include "support/temporary_files.h"
 
@@ -181,4 +185,93 @@ TEST(CommandLine, RenderSwitchesEveryFieldObjectToAMesh) {
     const auto r = runIsotrace("render " + scene + " --as mesh -o " + folder.file("m.exr") + " --quiet");
     EXPECT_EQ(r.exitCode, 0) << r.output;
     EXPECT_EQ(runIsotrace("render " + scene + " --as triangles -o " + folder.file("x.exr")).exitCode, 2);
+}
+
+namespace {
+// Renders kSmallScene (optionally edited) to `name` in `folder` with extra arguments.
+std::string renderSmall(const TemporaryFolder& folder, const std::string& name, const std::string& arguments,
+                        const std::string& scene = kSmallScene) {
+    const std::string path = folder.write(name + ".json", scene);
+    const auto r = runIsotrace("render " + path + " -o " + folder.file(name + ".exr") + " --no-preview --quiet " + arguments);
+    EXPECT_EQ(r.exitCode, 0) << r.output;
+    return folder.file(name + ".exr");
+}
+}  // namespace
+
+// Four tiles rendered by four processes merge into the whole frame's bits.
+TEST(CommandLine, TilesInFourProcessesMergeToTheWholeRenderBitForBit) {
+    TemporaryFolder folder;
+    const std::string whole = renderSmall(folder, "whole", "--width 40 --height 30 --spp 3 --seed 5 --threads 2");
+    std::string tiles;
+    for (int i = 0; i < 4; ++i)
+        tiles += " " + renderSmall(folder, "tile" + std::to_string(i), "--width 40 --height 30 --spp 3 --seed 5 --threads 1 --tile " +
+                                                                           std::to_string(i) + "/4");
+    const auto merged = runIsotrace("merge" + tiles + " -o " + folder.file("merged.exr"));
+    ASSERT_EQ(merged.exitCode, 0) << merged.output;
+    const isotrace::Image a = isotrace::readImage(whole), b = isotrace::readImage(folder.file("merged.exr"));
+    ASSERT_EQ(a.rgb.size(), b.rgb.size());
+    EXPECT_EQ(std::memcmp(a.rgb.data(), b.rgb.data(), a.rgb.size() * sizeof(float)), 0);
+    // A crop is the same bits as the matching window of the whole frame.
+    const std::string crop = renderSmall(folder, "crop", "--width 40 --height 30 --spp 3 --seed 5 --crop 7 4 19 23");
+    const isotrace::Image c = isotrace::readImage(crop);
+    ASSERT_EQ(c.width, 12);
+    EXPECT_EQ(c.x, 7);
+    for (int y = 0; y < c.height; ++y)
+        EXPECT_EQ(std::memcmp(c.pixel(0, y), a.pixel(7, 4 + y), 12 * 3 * sizeof(float)), 0) << "row " << y;
+}
+
+TEST(CommandLine, MergeRejectsGapsOverlapsAndForeignTiles) {
+    TemporaryFolder folder;
+    std::vector<std::string> t;
+    for (int i = 0; i < 3; ++i)
+        t.push_back(renderSmall(folder, "t" + std::to_string(i), "--width 20 --height 9 --spp 1 --tile " + std::to_string(i) + "/3"));
+    const std::string otherSeed = renderSmall(folder, "seeded", "--width 20 --height 9 --spp 1 --seed 8 --tile 2/3");
+    std::string edited = kSmallScene;
+    edited.replace(edited.find("\"radius\": 1"), 11, "\"radius\": 0.9");
+    const std::string otherScene = renderSmall(folder, "edited", "--width 20 --height 9 --spp 1 --tile 2/3", edited);
+    struct Case {
+        std::string tiles, expect;
+    };
+    for (const Case& c : {Case{t[0] + " " + t[1], "do not cover the frame"}, Case{t[0] + " " + t[1] + " " + t[1] + " " + t[2], "overlaps"},
+                          Case{t[0] + " " + t[1] + " " + otherSeed, "isotrace:seed"},
+                          Case{t[0] + " " + t[1] + " " + otherScene, "isotrace:scene_hash"},
+                          Case{t[0] + " " + folder.file("missing.exr"), "missing.exr"}}) {
+        const auto r = runIsotrace("merge " + c.tiles + " -o " + folder.file("m.exr"));
+        EXPECT_EQ(r.exitCode, 2) << c.tiles << ": " << r.output;
+        EXPECT_NE(r.output.find(c.expect), std::string::npos) << r.output;
+        EXPECT_FALSE(std::filesystem::exists(folder.file("m.exr")));
+    }
+    EXPECT_EQ(runIsotrace("render " + folder.file("t0.json") + " --tile 3/3 -o " + folder.file("x.exr")).exitCode, 2);
+    EXPECT_EQ(runIsotrace("render " + folder.file("t0.json") + " --crop 0 0 999 5 -o " + folder.file("x.exr")).exitCode, 2);
+    EXPECT_FALSE(std::filesystem::exists(folder.file("x.exr")));
+}
+
+TEST(CommandLine, CompareExitCodesAndMetrics) {
+    TemporaryFolder folder;
+    const std::string a = renderSmall(folder, "a", "--spp 8 --seed 1");
+    const std::string a2 = renderSmall(folder, "a2", "--spp 8 --seed 2");
+    const std::string b = renderSmall(folder, "b", "--spp 8 --seed 3");
+    std::string darker = kSmallScene;
+    darker.replace(darker.find("\"type\": \"diffuse\""), 17, "\"type\": \"diffuse\", \"albedo\": [0.4, 0.4, 0.4]");
+    const std::string changed = renderSmall(folder, "changed", "--spp 8 --seed 3", darker);
+
+    EXPECT_EQ(runIsotrace("compare " + a + " " + a).exitCode, 0);
+    EXPECT_EQ(runIsotrace("compare " + a + " " + b).exitCode, 1) << "noise differs at the default (tiny) threshold";
+    EXPECT_EQ(runIsotrace("compare " + a + " " + b + " --fail 0.5").exitCode, 0);
+    // Monte Carlo aware: another seed is within noise, a darker material is not.
+    const auto noise = runIsotrace("compare " + b + " " + a + " --metric noise --noise " + a2 + " --json");
+    EXPECT_EQ(noise.exitCode, 0) << noise.output;
+    EXPECT_EQ(runIsotrace("compare " + changed + " " + a + " --metric noise --noise " + a2).exitCode, 1);
+    const auto json = nlohmann::json::parse(runIsotrace("compare " + a + " " + b + " --fail 1 --json").output);
+    EXPECT_EQ(json["verdict"], "PASS");
+    EXPECT_GT(json["rmse"].get<double>(), 0.0);
+    const auto diff = runIsotrace("compare " + a + " " + changed + " --fail 1 --diff " + folder.file("d.png"));
+    EXPECT_EQ(diff.exitCode, 0);
+    EXPECT_TRUE(std::filesystem::exists(folder.file("d.png")));
+    // Bad input: a different size, an unreadable file.
+    const std::string small = renderSmall(folder, "small", "--width 8 --height 8");
+    const auto sizes = runIsotrace("compare " + a + " " + small);
+    EXPECT_EQ(sizes.exitCode, 2);
+    EXPECT_NE(sizes.output.find("16x12 differs from"), std::string::npos) << sizes.output;
+    EXPECT_EQ(runIsotrace("compare " + a + " " + folder.file("none.exr")).exitCode, 2);
 }
