@@ -436,10 +436,11 @@ PolynomialField polynomialPreset(const std::string& name) {
         return PolynomialField(p, Box3(Vec3(-1.3, -0.9, -0.4), Vec3(1.3, 0.9, 0.4)));
     }
     if (name == "pretzel4") {
-        // A tube around y^2 = 64 x^2 (1 - x^2)(x^2 - 1/4)^2: four lobes in a row.
-        Polynomial curve = 64.0 * x.power(2) * (k(1) - x.power(2)) * (x.power(2) - k(0.25)).power(2);
-        Polynomial p = (curve - y.power(2)).power(2) + 0.5 * z.power(2) - k(0.003);
-        return PolynomialField(p, Box3(Vec3(-1.3, -0.9, -0.4), Vec3(1.3, 0.9, 0.4)));
+        // A tube around y^2 = 16 x^2 (1 - x^2)(x^2 - 1/2)^2: four lobes in a
+        // row, equally tall because the double root sits at x^2 = 1/2.
+        Polynomial curve = 16.0 * x.power(2) * (k(1) - x.power(2)) * (x.power(2) - k(0.5)).power(2);
+        Polynomial p = (curve - y.power(2)).power(2) + 0.5 * z.power(2) - k(0.0036);
+        return PolynomialField(p, Box3(Vec3(-1.2, -0.8, -0.25), Vec3(1.2, 0.8, 0.25)));
     }
     throw std::invalid_argument("unknown polynomial preset " + name);
 }
