@@ -39,8 +39,10 @@ void writeBuffer(const std::string& path, const OIIO::ImageSpec& spec, OIIO::Typ
 }  // namespace
 
 void writeImage(const std::string& path, const Image& image, const ImageMetadata& metadata, bool half) {
-    OIIO::ImageSpec spec(image.width, image.height, 3, half ? OIIO::TypeDesc::HALF : OIIO::TypeDesc::FLOAT);
+    const int channels = 3 + int(image.extraChannels.size());
+    OIIO::ImageSpec spec(image.width, image.height, channels, half ? OIIO::TypeDesc::HALF : OIIO::TypeDesc::FLOAT);
     spec.channelnames = {"R", "G", "B"};
+    spec.channelnames.insert(spec.channelnames.end(), image.extraChannels.begin(), image.extraChannels.end());
     // A window of a larger frame keeps its place (EXR data window inside
     // the display window), which is what `isotrace merge` reads back.
     spec.x = image.x;
@@ -50,7 +52,18 @@ void writeImage(const std::string& path, const Image& image, const ImageMetadata
     spec.full_width = image.fullWidth > 0 ? image.fullWidth : image.width;
     spec.full_height = image.fullHeight > 0 ? image.fullHeight : image.height;
     for (const auto& [name, value] : metadata.strings) spec.attribute(name, value);
-    writeBuffer(path, spec, OIIO::TypeDesc::FLOAT, image.rgb.data());  // OIIO converts to half if asked
+    if (image.extraChannels.empty()) {
+        writeBuffer(path, spec, OIIO::TypeDesc::FLOAT, image.rgb.data());  // OIIO converts to half if asked
+        return;
+    }
+    // Interleave colour and AOV channels per pixel.
+    const size_t pixels = size_t(image.width) * image.height, extra = image.extraChannels.size();
+    std::vector<float> all(pixels * channels);
+    for (size_t p = 0; p < pixels; ++p) {
+        std::copy_n(&image.rgb[3 * p], 3, &all[p * channels]);
+        std::copy_n(&image.extra[extra * p], extra, &all[p * channels + 3]);
+    }
+    writeBuffer(path, spec, OIIO::TypeDesc::FLOAT, all.data());
 }
 
 void writePreviewPng(const std::string& path, const Image& image, double exposure) {
@@ -99,6 +112,12 @@ Image readImage(const std::string& path, ImageMetadata* metadata) {
     image.rgb.resize(size_t(spec.width) * spec.height * 3);
     for (size_t p = 0; p < size_t(spec.width) * spec.height; ++p)
         for (int c = 0; c < 3; ++c) image.rgb[3 * p + c] = all[p * spec.nchannels + std::min(c, spec.nchannels - 1)];
+    // Channels past the first three (AOVs) come along, so merge keeps them.
+    for (int c = 3; c < spec.nchannels; ++c) image.extraChannels.push_back(spec.channelnames[c]);
+    const size_t extra = image.extraChannels.size();
+    image.extra.resize(size_t(spec.width) * spec.height * extra);
+    for (size_t p = 0; p < size_t(spec.width) * spec.height; ++p)
+        for (size_t c = 0; c < extra; ++c) image.extra[p * extra + c] = all[p * spec.nchannels + 3 + c];
     return image;
 }
 

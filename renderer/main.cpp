@@ -34,6 +34,7 @@ struct RenderCommand {
     double exposure = 0.0;
     std::string as;
     std::vector<int> crop;  ///< x0 y0 x1 y1
+    std::vector<std::string> aovs;
     std::string tile;       ///< "I/N"
 };
 
@@ -105,6 +106,7 @@ int runRender(const RenderCommand& cmd) {
     for (const std::string& w : scene->warnings) std::fprintf(stderr, "warning: %s: %s\n", cmd.scene.c_str(), w.c_str());
     RenderOptions options;
     options.crop = requestedWindow(cmd, scene->film.width, scene->film.height);
+    options.aovs = cmd.aovs;
     options.threads = cmd.threads;
     options.seed = cmd.seed;
     options.quiet = cmd.quiet;
@@ -223,6 +225,8 @@ int runMerge(const MergeCommand& cmd) {
             full.width = full.fullWidth = tile.fullWidth;
             full.height = full.fullHeight = tile.fullHeight;
             full.rgb.assign(size_t(full.width) * full.height * 3, 0.0f);
+            full.extraChannels = tile.extraChannels;
+            full.extra.assign(size_t(full.width) * full.height * full.extraChannels.size(), 0.0f);
             owner.assign(size_t(full.width) * full.height, -1);
         } else {
             if (tile.fullWidth != full.width || tile.fullHeight != full.height)
@@ -230,6 +234,8 @@ int runMerge(const MergeCommand& cmd) {
                                                          std::to_string(tile.fullHeight) + " differs from " +
                                                          cmd.tiles[0] + "'s " + std::to_string(full.width) + "x" +
                                                          std::to_string(full.height));
+            if (tile.extraChannels != full.extraChannels)
+                throw geometry::InputError(path, "", "its channels differ from " + cmd.tiles[0] + "'s");
             for (const char* key : mustMatch)
                 if (metadataValue(meta, key) != metadataValue(first, key))
                     throw geometry::InputError(path, "", std::string(key) + " is \"" + metadataValue(meta, key) + "\" but " +
@@ -247,6 +253,8 @@ int runMerge(const MergeCommand& cmd) {
                                                              ", " + std::to_string(fy) + ")");
                 o = int(t);
                 std::copy_n(tile.pixel(x, y), 3, full.pixel(fx, fy));
+                if (!full.extraChannels.empty())
+                    std::copy_n(tile.extraPixel(x, y), full.extraChannels.size(), full.extraPixel(fx, fy));
             }
     }
     for (size_t p = 0; p < owner.size(); ++p)
@@ -280,6 +288,9 @@ int main(int argc, char** argv) {
     renderApp->add_flag("--half", render.half, "Write half-float EXR");
     renderApp->add_option("--crop", render.crop, "Render only columns X0..X1 and rows Y0..Y1 (end excluded)")
         ->expected(4)->type_name("X0 Y0 X1 Y1");
+    renderApp->add_option("--aov", render.aovs, "Extra EXR layers: albedo, normal, depth, id, steps (comma separated)")
+        ->delimiter(',')
+        ->check(CLI::IsMember({"albedo", "normal", "depth", "id", "steps"}));
     renderApp->add_option("--tile", render.tile, "Render band I of N bands of rows (0 <= I < N), for isotrace merge")
         ->type_name("I/N");
     renderApp->add_flag("--no-preview", render.noPreview, "Do not write the PNG preview");

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "scene.h"
@@ -16,7 +17,12 @@ struct Image {
     int x = 0, y = 0;                      ///< the window's place in the full frame
     int fullWidth = 0, fullHeight = 0;     ///< the full frame (0: same as width, height)
     std::vector<float> rgb;  ///< row-major, three floats per pixel
+    /// Further channels (AOVs), `extraChannels.size()` floats per pixel.
+    std::vector<std::string> extraChannels;
+    std::vector<float> extra;
     float* pixel(int x, int y) { return &rgb[3 * (size_t(y) * width + x)]; }
+    float* extraPixel(int x, int y) { return &extra[extraChannels.size() * (size_t(y) * width + x)]; }
+    const float* extraPixel(int x, int y) const { return &extra[extraChannels.size() * (size_t(y) * width + x)]; }
     const float* pixel(int x, int y) const { return &rgb[3 * (size_t(y) * width + x)]; }
 };
 
@@ -31,6 +37,10 @@ struct RenderOptions {
     /// Render only this window of the frame (empty: the whole frame). Every
     /// pixel gets the same bits as in a whole render.
     PixelWindow crop;
+    /// Arbitrary output variables of the first hit, averaged over a pixel's
+    /// samples: "albedo", "normal", "depth", "id" (object index, -1 for
+    /// none; the first sample's) and "steps" (sphere-tracing steps).
+    std::vector<std::string> aovs;
     uint64_t seed = 0;
     bool quiet = false;
 };

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstring>
 
 #include "renderer/image_comparison.h"
@@ -71,4 +72,37 @@ TEST(Render, ImplicitAndFineMeshOfOneSphereAgree) {
     const ImageDifference d = compareImages(mesh, implicit, 0.1);
     EXPECT_LT(d.meanAbsolute, 0.005 * d.referenceMean);
     EXPECT_LT(d.fractionOver, 0.02);
+}
+
+// AOVs of the first hit: the centre pixel sees the sphere (object 0) at
+// depth 3, with a normal towards the camera, the clay's albedo and some
+// sphere-tracing steps; a pixel that sees only the floor mesh has none.
+TEST(Render, ArbitraryOutputVariablesDescribeTheFirstHit) {
+    TemporaryFolder folder;
+    auto scene = loadSceneText(folder, R"({"camera": {"from": [0, 0, 4], "to": [0, 0, 0], "fov": 40},
+      "film": {"width": 33, "height": 33, "spp": 4, "filter": {"type": "box", "radius": 0.5}},
+      "materials": {"clay": {"type": "diffuse", "albedo": [0.7, 0.6, 0.5]}, "grey": {"type": "diffuse"}},
+      "fields": {"ball": {"type": "sphere", "radius": 1}},
+      "objects": [{"field": "ball", "material": "clay"},
+                  {"vertices": [-9, -1.2, -9, 9, -1.2, -9, 9, -1.2, 9, -9, -1.2, 9], "indices": [0, 2, 1, 0, 3, 2], "material": "grey"}],
+      "lights": [{"type": "environment", "radiance": [1, 1, 1]}]})");
+    RenderOptions options{.threads = 2, .seed = 1, .quiet = true};
+    options.aovs = {"albedo", "normal", "depth", "id", "steps"};
+    const Image image = render(*scene, options);
+    ASSERT_EQ(image.extraChannels.size(), 9u);
+    auto channel = [&](const std::string& name) {
+        return int(std::find(image.extraChannels.begin(), image.extraChannels.end(), name) - image.extraChannels.begin());
+    };
+    const float* centre = image.extraPixel(16, 16);
+    EXPECT_NEAR(centre[channel("Z")], 3.0, 0.01);
+    EXPECT_EQ(centre[channel("id")], 0.0f);
+    EXPECT_NEAR(centre[channel("albedo.R")], 0.7, 1e-6);
+    EXPECT_GT(centre[channel("N.Z")], 0.99);
+    EXPECT_GT(centre[channel("steps")], 0.0f);
+    const float* floor = image.extraPixel(16, 32);
+    EXPECT_EQ(floor[channel("id")], 1.0f);
+    EXPECT_EQ(floor[channel("steps")], 0.0f);
+    // Colour is the same bits with or without AOVs.
+    const Image plain = render(*scene, {.threads = 2, .seed = 1, .quiet = true});
+    EXPECT_EQ(std::memcmp(plain.rgb.data(), image.rgb.data(), plain.rgb.size() * sizeof(float)), 0);
 }
