@@ -32,35 +32,30 @@ bool marchCell(const RTCRay& ray, const ImplicitSurface& surface, unsigned primI
     return true;
 }
 
-void fillHit(RTCHit& hit, const RTCRay& ray, const ImplicitSurface& surface, const RTCIntersectFunctionNArguments* args,
-             double t) {
+// The candidate hit at t: object-space normal = field gradient, ids, and
+// the instance ids, which Embree leaves to user geometry under instances.
+// Intersect and occluded arguments carry the same fields.
+template <class Arguments>
+RTCHit candidateHit(const RTCRay& ray, const ImplicitSurface& surface, const Arguments* args, double t) {
+    RTCHit hit{};
     const Vec3 p = Vec3(ray.org_x, ray.org_y, ray.org_z) + t * Vec3(ray.dir_x, ray.dir_y, ray.dir_z);
-    const SurfaceCell& cell = surface.cells()[args->primID];
     Vec3 g;
-    surface.cellProgram(cell).valueAndGradient(p, g);
+    surface.cellProgram(surface.cells()[args->primID]).valueAndGradient(p, g);
     hit.Ng_x = float(g.x());
     hit.Ng_y = float(g.y());
     hit.Ng_z = float(g.z());
-    hit.u = 0.0f;
-    hit.v = 0.0f;
     hit.primID = args->primID;
     hit.geomID = args->geomID;
-    // Under an instance, Embree leaves the instance id to the user geometry.
     for (unsigned level = 0; level < RTC_MAX_INSTANCE_LEVEL_COUNT; ++level)
         hit.instID[level] = args->context->instID[level];
+    return hit;
 }
 
-void intersectCallback(const RTCIntersectFunctionNArguments* args) {
-    assert(args->N == 1);
-    if (!args->valid[0]) return;
-    const auto& surface = *static_cast<const ImplicitSurface*>(args->geometryUserPtr);
-    RTCRayHit* rayhit = reinterpret_cast<RTCRayHit*>(args->rayhit);
-    RTCRay& ray = rayhit->ray;
-    double t;
-    if (!marchCell(ray, surface, args->primID, t)) return;
-
-    RTCHit candidate;
-    fillHit(candidate, ray, surface, args, t);
+// Offers a candidate to the filter functions with tfar set to its t, as
+// Embree does for its own primitives; true when accepted. On rejection the
+// ray's tfar is restored.
+template <class Arguments, class FilterCall>
+bool offerToFilters(const Arguments* args, RTCRay& ray, RTCHit& candidate, double t, FilterCall filter) {
     const float oldTfar = ray.tfar;
     ray.tfar = float(t);
     int valid = -1;
@@ -71,9 +66,20 @@ void intersectCallback(const RTCIntersectFunctionNArguments* args) {
     filterArgs.ray = reinterpret_cast<RTCRayN*>(&ray);
     filterArgs.hit = reinterpret_cast<RTCHitN*>(&candidate);
     filterArgs.N = 1;
-    rtcFilterIntersection(args, &filterArgs);
-    if (valid == -1) rayhit->hit = candidate;
-    else ray.tfar = oldTfar;
+    filter(args, &filterArgs);
+    if (valid != -1) ray.tfar = oldTfar;
+    return valid == -1;
+}
+
+void intersectCallback(const RTCIntersectFunctionNArguments* args) {
+    assert(args->N == 1);
+    if (!args->valid[0]) return;
+    const auto& surface = *static_cast<const ImplicitSurface*>(args->geometryUserPtr);
+    RTCRayHit* rayhit = reinterpret_cast<RTCRayHit*>(args->rayhit);
+    double t;
+    if (!marchCell(rayhit->ray, surface, args->primID, t)) return;
+    RTCHit candidate = candidateHit(rayhit->ray, surface, args, t);
+    if (offerToFilters(args, rayhit->ray, candidate, t, rtcFilterIntersection)) rayhit->hit = candidate;
 }
 
 void occludedCallback(const RTCOccludedFunctionNArguments* args) {
@@ -83,32 +89,9 @@ void occludedCallback(const RTCOccludedFunctionNArguments* args) {
     RTCRay* ray = reinterpret_cast<RTCRay*>(args->ray);
     double t;
     if (!marchCell(*ray, surface, args->primID, t)) return;
-
-    RTCHit candidate{};
-    // fillHit takes intersect arguments; occlusion fills the hit by hand.
-    const Vec3 p = Vec3(ray->org_x, ray->org_y, ray->org_z) + t * Vec3(ray->dir_x, ray->dir_y, ray->dir_z);
-    Vec3 g;
-    surface.cellProgram(surface.cells()[args->primID]).valueAndGradient(p, g);
-    candidate.Ng_x = float(g.x());
-    candidate.Ng_y = float(g.y());
-    candidate.Ng_z = float(g.z());
-    candidate.primID = args->primID;
-    candidate.geomID = args->geomID;
-    for (unsigned level = 0; level < RTC_MAX_INSTANCE_LEVEL_COUNT; ++level)
-        candidate.instID[level] = args->context->instID[level];
-    const float oldTfar = ray->tfar;
-    ray->tfar = float(t);
-    int valid = -1;
-    RTCFilterFunctionNArguments filterArgs;
-    filterArgs.valid = &valid;
-    filterArgs.geometryUserPtr = args->geometryUserPtr;
-    filterArgs.context = args->context;
-    filterArgs.ray = reinterpret_cast<RTCRayN*>(ray);
-    filterArgs.hit = reinterpret_cast<RTCHitN*>(&candidate);
-    filterArgs.N = 1;
-    rtcFilterOcclusion(args, &filterArgs);
+    RTCHit candidate = candidateHit(*ray, surface, args, t);
     // An accepted occluder ends traversal: Embree reads tfar = -inf as "hit".
-    ray->tfar = valid == -1 ? -std::numeric_limits<float>::infinity() : oldTfar;
+    if (offerToFilters(args, *ray, candidate, t, rtcFilterOcclusion)) ray->tfar = -std::numeric_limits<float>::infinity();
 }
 
 }  // namespace

@@ -1,6 +1,7 @@
 #include "render.h"
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <chrono>
 #include <tbb/blocked_range.h>
@@ -51,7 +52,7 @@ Image render(const Scene& scene, const RenderOptions& options, RenderStatistics*
     // AOVs trace each sample's camera ray once more: only when asked for.
     auto writeAovs = [&](int x, int y, float* out) {
         Sampler sampler(film.sampler, options.seed);
-        std::vector<double> sum(extraCount, 0.0);
+        std::array<double, 9> sum{};  // at most 9 AOV channels; nothing allocated per pixel
         float id = -1.0f;
         for (int s = 0; s < film.samplesPerPixel; ++s) {
             sampler.startPixelSample(x, y, static_cast<uint32_t>(s));

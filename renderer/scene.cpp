@@ -112,10 +112,6 @@ bool Scene::intersect(const Ray& ray, double tMax, SurfaceHit& hit) const {
                 if (hit.shadingNormal.dot(hit.geometricNormal) < 0) hit.geometricNormal = -hit.geometricNormal;
             }
         }
-    } else {
-        // Implicit hits refine to 1e-6 of the object's size; use the
-        // double-precision point along the double ray.
-        hit.position = ray.origin + hit.t * ray.direction;
     }
     return true;
 }
