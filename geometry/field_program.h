@@ -101,8 +101,6 @@ public:
     /// Node evaluations per point: instructions plus the terms inside leaves
     /// (blobs, segments), the cost measure of the benchmarks.
     size_t evaluationCost() const { return evaluationCost_; }
-    const std::vector<FieldInstruction>& instructions() const { return code_; }
-    const std::vector<FieldLeaf>& leaves() const { return leaves_; }
 
 private:
     void estimateSlots(const Box3& box, std::vector<BoxEstimate>& slots, bool withLipschitz = true) const;

@@ -62,7 +62,6 @@ TraceResult ImplicitSurface::intersectCell(uint32_t index, const Vec3& origin, c
     if (!clipRayToBox(cell.box, origin, direction, t0, t1)) return {};
     const FieldProgram& program = programs_[cell.program];
     TraceCounters& counters = threadTraceCounters();
-    ++counters.marches;
     TraceResult r = sphereTrace(program, cell.lipschitz, origin, direction, t0, t1, settings_);
     counters.steps += r.steps;
     counters.evaluations += r.evaluations;

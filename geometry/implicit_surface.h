@@ -30,7 +30,6 @@ struct SurfaceCell {
 
 /// Per-thread totals of the marching work, read by benchmarks and AOVs.
 struct TraceCounters {
-    uint64_t marches = 0;
     uint64_t steps = 0;
     uint64_t evaluations = 0;
 };

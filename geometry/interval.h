@@ -29,8 +29,6 @@ struct Interval {
     constexpr bool containsZero() const { return lo <= 0.0 && 0.0 <= hi; }
     constexpr double width() const { return hi - lo; }
     constexpr double magnitude() const { return std::max(std::abs(lo), std::abs(hi)); }
-    /// Smallest absolute value of a member (0 when the interval straddles 0).
-    constexpr double mignitude() const { return containsZero() ? 0.0 : std::min(std::abs(lo), std::abs(hi)); }
 };
 
 inline Interval operator+(Interval a, Interval b) { return {a.lo + b.lo, a.hi + b.hi}; }
@@ -47,8 +45,6 @@ inline Interval& operator+=(Interval& a, Interval b) { return a = a + b; }
 
 inline Interval min(Interval a, Interval b) { return {std::min(a.lo, b.lo), std::min(a.hi, b.hi)}; }
 inline Interval max(Interval a, Interval b) { return {std::max(a.lo, b.lo), std::max(a.hi, b.hi)}; }
-inline Interval hull(Interval a, Interval b) { return {std::min(a.lo, b.lo), std::max(a.hi, b.hi)}; }
-inline Interval intersect(Interval a, Interval b) { return {std::max(a.lo, b.lo), std::min(a.hi, b.hi)}; }
 
 /// x^n for a whole n >= 0; even powers of a straddling interval start at 0.
 inline double wholePower(double x, int n) {
@@ -64,8 +60,6 @@ inline Interval pow(Interval a, int n) {
     if (a.containsZero()) return {0.0, std::max(pl, ph)};
     return {std::min(pl, ph), std::max(pl, ph)};
 }
-inline Interval square(Interval a) { return pow(a, 2); }
-inline Interval sqrt(Interval a) { return {std::sqrt(std::max(a.lo, 0.0)), std::sqrt(std::max(a.hi, 0.0))}; }
 
 /// Widens an interval by a relative and absolute margin to absorb round-off.
 inline Interval widened(Interval a, double relative = 1e-12) {
