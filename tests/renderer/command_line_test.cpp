@@ -50,6 +50,10 @@ TEST(CommandLine, UsageErrorsExitWith2) {
     EXPECT_EQ(runIsotrace("frobnicate").exitCode, 2);
     EXPECT_EQ(runIsotrace("render x.json --spp 0").exitCode, 2);
     EXPECT_EQ(runIsotrace("render x.json --threads -1").exitCode, 2);
+    EXPECT_EQ(runIsotrace("render x.json --aov albedo,bogus").exitCode, 2);
+    EXPECT_EQ(runIsotrace("render x.json --crop 0 0 4").exitCode, 2);
+    EXPECT_EQ(runIsotrace("compare a.exr b.exr --metric bogus").exitCode, 2);
+    EXPECT_EQ(runIsotrace("compare a.exr b.exr --fail-percent 150").exitCode, 2);
 }
 
 TEST(CommandLine, RendersAnEXRWithMetadataAndAPngPreview) {
@@ -243,6 +247,9 @@ TEST(CommandLine, MergeRejectsGapsOverlapsAndForeignTiles) {
     }
     EXPECT_EQ(runIsotrace("render " + folder.file("t0.json") + " --tile 3/3 -o " + folder.file("x.exr")).exitCode, 2);
     EXPECT_EQ(runIsotrace("render " + folder.file("t0.json") + " --crop 0 0 999 5 -o " + folder.file("x.exr")).exitCode, 2);
+    const auto both = runIsotrace("render " + folder.file("t0.json") + " --crop 0 0 4 4 --tile 0/2 -o " + folder.file("x.exr"));
+    EXPECT_EQ(both.exitCode, 2);
+    EXPECT_NE(both.output.find("not both"), std::string::npos) << both.output;
     EXPECT_FALSE(std::filesystem::exists(folder.file("x.exr")));
 }
 
@@ -274,4 +281,7 @@ TEST(CommandLine, CompareExitCodesAndMetrics) {
     EXPECT_EQ(sizes.exitCode, 2);
     EXPECT_NE(sizes.output.find("16x12 differs from"), std::string::npos) << sizes.output;
     EXPECT_EQ(runIsotrace("compare " + a + " " + folder.file("none.exr")).exitCode, 2);
+    const auto noNoise = runIsotrace("compare " + a + " " + b + " --metric noise");
+    EXPECT_EQ(noNoise.exitCode, 2);
+    EXPECT_NE(noNoise.output.find("needs --noise"), std::string::npos) << noNoise.output;
 }

@@ -165,3 +165,19 @@ TEST(SceneLoader, TransformsOfEveryForm) {
     expectError(sceneError(folder, withTransform(R"({"matrix": [[1,0,0,1],[0,1,0,0],[0,0,1,0],[0,0,1,1]]})")),
                 "/objects/0/transform/matrix", "affine");
 }
+
+TEST(SceneLoader, BadMeshSettingsOfFieldObjects) {
+    TemporaryFolder folder;
+    auto asMesh = [&](const std::string& keys) {
+        return scene("{}", R"([{"field": "ball", "material": "clay", "as": "mesh", )" + keys + "}]");
+    };
+    expectError(sceneError(folder, asMesh(R"("method": "dual")")), "/objects/0/method", "valid values: \"adaptive\", \"marching_cubes\"");
+    expectError(sceneError(folder, asMesh(R"("resolution": 0)")), "/objects/0/resolution", "between 1 and");
+    expectError(sceneError(folder, asMesh(R"("resolution": 8192)")), "/objects/0", "GiB");
+    expectError(sceneError(folder, asMesh(R"("tolerance": -0.1)")), "/objects/0/tolerance", "greater than 0");
+    expectError(sceneError(folder, scene("{}", R"([{"field": "ball", "material": "clay", "as": "triangles"}])")),
+                "/objects/0/as", "unknown value \"triangles\"");
+    const std::string unbounded = R"({"materials": {"m": {"type": "diffuse"}}, "fields": {"floor": {"type": "plane"}},
+        "objects": [{"field": "floor", "material": "m", "as": "mesh"}]})";
+    expectError(sceneError(folder, unbounded), "/objects/0", "unbounded");
+}
