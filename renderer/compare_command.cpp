@@ -1,5 +1,7 @@
 #include "compare_command.h"
 
+#include <OpenImageIO/imagebuf.h>
+#include <OpenImageIO/imagebufalgo.h>
 #include <OpenImageIO/imageio.h>
 #include <cmath>
 #include <cstdio>
@@ -8,6 +10,7 @@
 
 #include "geometry/input_error.h"
 #include "image_comparison.h"
+#include "flip_metric.h"
 #include "image_output.h"
 
 namespace isotrace {
@@ -20,12 +23,43 @@ using geometry::InputError;
 struct ImageShape {
     int width, height;
     std::vector<std::string> channels;
+    bool floatingPoint;  ///< linear HDR data (EXR, HDR, float TIFF) rather than display-encoded values
 };
 
 ImageShape shapeOf(const std::string& path) {
     auto in = OIIO::ImageInput::open(path);
     if (!in) throw InputError(path, "", "cannot read image: " + OIIO::geterror());
-    return {in->spec().width, in->spec().height, in->spec().channelnames};
+    const OIIO::ImageSpec& spec = in->spec();
+    return {spec.width, spec.height, spec.channelnames, spec.format.is_floating_point()};
+}
+
+// Display-encoded files (PNG, JPEG, 8/16-bit TIFF) hold sRGB values; FLIP
+// works on linear ones.
+Image linearized(Image image) {
+    for (float& v : image.rgb) v = v <= 0.04045f ? v / 12.92f : std::pow((v + 0.055f) / 1.055f, 2.4f);
+    return image;
+}
+
+// The FLIP error map: .exr holds the errors, other formats the magma colour
+// map of the FLIP papers.
+void writeFlipMap(const std::string& path, const FlipResult& flip) {
+    Image map;
+    map.width = flip.width;
+    map.height = flip.height;
+    map.rgb.resize(flip.errors.size() * 3);
+    for (size_t i = 0; i < flip.errors.size(); ++i) map.rgb[3 * i] = map.rgb[3 * i + 1] = map.rgb[3 * i + 2] = flip.errors[i];
+    if (std::filesystem::path(path).extension() == ".exr") {
+        writeImage(path, map, {}, false);
+        return;
+    }
+    OIIO::ImageBuf errors(OIIO::ImageSpec(flip.width, flip.height, 1, OIIO::TypeDesc::FLOAT),
+                          const_cast<float*>(flip.errors.data()));
+    const OIIO::ImageBuf colored = OIIO::ImageBufAlgo::color_map(errors, 0, "magma");
+    if (colored.has_error()) throw std::runtime_error(path + ": cannot colour the FLIP map: " + colored.geterror());
+    // color_map's output is display-encoded already; writePreviewPng encodes
+    // linear values, so undo that here.
+    colored.get_pixels(OIIO::ROI::All(), OIIO::TypeDesc::FLOAT, map.rgb.data());
+    writePreviewPng(path, linearized(map), 0.0);
 }
 
 std::string joined(const std::vector<std::string>& names) {
@@ -100,8 +134,13 @@ void addCompareCommand(CLI::App& app, CompareCommand& c) {
     CLI::App* cmd = app.add_subcommand("compare", "Compare two images (EXR, PNG, HDR, TIFF, ...) with thresholds");
     cmd->add_option("test", c.test, "The image to judge")->required();
     cmd->add_option("reference", c.reference, "The reference image")->required();
-    cmd->add_option("--metric", c.metric, "rmse, relmse, psnr, max, mean, over (fraction of differing pixels), noise")
-        ->check(CLI::IsMember({"rmse", "relmse", "psnr", "max", "mean", "over", "noise"}));
+    cmd->add_option("--metric", c.metric,
+                    "rmse, relmse, psnr, max, mean, over (fraction of differing pixels), noise, flip (mean FLIP: HDR-FLIP "
+                    "for floating-point files, LDR-FLIP otherwise), flip-ldr, flip-hdr")
+        ->check(CLI::IsMember({"rmse", "relmse", "psnr", "max", "mean", "over", "noise", "flip", "flip-ldr", "flip-hdr"}));
+    cmd->add_option("--ppd", c.pixelsPerDegree,
+                    "FLIP viewing condition: pixels per degree of visual angle (default 67: a 0.7 m wide 4K monitor at 0.7 m)")
+        ->check(CLI::Range(1.0, 1000.0));
     cmd->add_option("--fail", c.fail, "Fail (exit 1) when the metric is worse than this (psnr: lower)");
     cmd->add_option("--warn", c.warn, "Warn when the metric is worse than this");
     cmd->add_option("--fail-percent", c.failPercent, "Fail when more than this percentage of pixels differ")
@@ -110,7 +149,9 @@ void addCompareCommand(CLI::App& app, CompareCommand& c) {
                     "A pixel differs when |a - b| > threshold * (|b| + 0.05) in some channel")
         ->check(CLI::PositiveNumber);
     cmd->add_option("--noise", c.noise, "A second render of TEST with another seed: judge differences against noise");
-    cmd->add_option("--diff", c.diff, "Write a difference image: .exr holds |a - b|, other formats a colour map");
+    cmd->add_option("--diff", c.diff,
+                    "Write a difference image: .exr holds |a - b| (FLIP metrics: the FLIP errors), other formats a colour "
+                    "map (FLIP: magma)");
     cmd->add_flag("--json", c.json, "Print the metrics as JSON");
 }
 
@@ -167,22 +208,46 @@ int runCompare(const CompareCommand& c) {
         noiseScore = count ? sum / count : 0.0;
     }
 
-    const double value = c.metric == "rmse"     ? d.rmse
+    const bool flipMetric = c.metric.rfind("flip", 0) == 0;
+    FlipResult flip;
+    bool hdr = false;
+    if (flipMetric) {
+        hdr = c.metric == "flip-hdr" || (c.metric == "flip" && (a.floatingPoint || b.floatingPoint));
+        const Image t = a.floatingPoint ? test : linearized(test), r = b.floatingPoint ? reference : linearized(reference);
+        const double ppd = c.pixelsPerDegree > 0 ? c.pixelsPerDegree : defaultPixelsPerDegree();
+        flip = hdr ? hdrFlip(t, r, ppd) : ldrFlip(t, r, ppd);
+    }
+
+    const double value = flipMetric             ? flip.mean
+                         : c.metric == "rmse"   ? d.rmse
                          : c.metric == "relmse" ? d.relativeMse
                          : c.metric == "psnr"   ? d.psnr
                          : c.metric == "max"    ? d.maxAbsolute
                          : c.metric == "mean"   ? d.meanAbsolute
                          : c.metric == "over"   ? d.fractionOver
                                                 : noiseScore;
-    // Thresholds: tiny by default (identical images pass); 3 for noise scores, which measure 0.3 to 1.6 for renders differing only by seed and above 5 for a visible change (tests/renderer/command_line_test.cpp).
-    const double failAt = c.fail >= 0 ? c.fail : c.metric == "noise" ? 3.0 : c.metric == "psnr" ? 60.0 : 1e-6;
+    // Thresholds: tiny by default (identical images pass); 3 for noise
+    // scores, which measure 0.3 to 1.6 for renders differing only by seed and
+    // above 5 for a visible change (tests/renderer/command_line_test.cpp);
+    // a mean FLIP of 0.05, below which differences are hard to spot when
+    // flipping between the images.
+    const double failAt = c.fail >= 0              ? c.fail
+                          : c.metric == "noise"    ? 3.0
+                          : c.metric == "psnr"     ? 60.0
+                          : flipMetric             ? 0.05
+                                                   : 1e-6;
     auto worse = [&](double threshold) { return c.metric == "psnr" ? value < threshold : value > threshold; };
     bool failed = worse(failAt) || d.nonFinite > 0;
     if (c.failPercent >= 0 && 100.0 * d.fractionOver > c.failPercent) failed = true;
     const bool warned = !failed && c.warn >= 0 && worse(c.warn);
     const std::string verdict = failed ? "FAIL" : warned ? "WARN" : "PASS";
 
-    if (!c.diff.empty()) writeDifference(c.diff, test, reference);
+    if (!c.diff.empty()) {
+        if (flipMetric)
+            writeFlipMap(c.diff, flip);
+        else
+            writeDifference(c.diff, test, reference);
+    }
     if (c.json) {
         nlohmann::json j = {{"rmse", d.rmse},
                             {"relmse", d.relativeMse},
@@ -196,12 +261,24 @@ int runCompare(const CompareCommand& c) {
                             {"fail_threshold", failAt},
                             {"verdict", verdict}};
         if (!c.noise.empty()) j["noise"] = noiseScore;
+        if (flipMetric) {
+            j["flip"] = {{"mean", flip.mean}, {"variant", hdr ? "hdr" : "ldr"}};
+            if (hdr)
+                j["flip"].update({{"start_exposure", flip.startExposure},
+                                  {"stop_exposure", flip.stopExposure},
+                                  {"exposures", flip.exposures}});
+        }
         if (d.nonFinite) j["first_non_finite_pixel"] = {d.firstNonFiniteX, d.firstNonFiniteY};
         std::printf("%s\n", j.dump(2).c_str());
     } else {
         std::printf("rmse %.6g  relmse %.6g  psnr %.4g dB  max %.6g  mean %.6g  differing pixels %.3f%%\n", d.rmse,
                     d.relativeMse, d.psnr, d.maxAbsolute, d.meanAbsolute, 100.0 * d.fractionOver);
         if (!c.noise.empty()) std::printf("noise score %.4g (about 1 for differences within noise)\n", noiseScore);
+        if (flipMetric && hdr)
+            std::printf("HDR-FLIP %.6g over %d exposures from %.3g to %.3g stops\n", flip.mean, flip.exposures,
+                        flip.startExposure, flip.stopExposure);
+        else if (flipMetric)
+            std::printf("LDR-FLIP %.6g\n", flip.mean);
         if (d.nonFinite)
             std::printf("%lld pixels are NaN or infinite; the first at (%d, %d)\n", d.nonFinite, d.firstNonFiniteX,
                         d.firstNonFiniteY);

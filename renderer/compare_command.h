@@ -15,6 +15,7 @@ struct CompareCommand {
     double warn = -1.0;          ///< < 0: none
     double failPercent = -1.0;   ///< < 0: none
     double pixelThreshold = 0.1;
+    double pixelsPerDegree = 0.0;  ///< FLIP viewing condition; 0: the papers' default
     std::string noise;           ///< a second render of `test` with another seed
     std::string diff;            ///< difference image (.exr: |a - b|; other: a colour map)
     bool json = false;

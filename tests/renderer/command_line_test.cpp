@@ -285,3 +285,48 @@ TEST(CommandLine, CompareExitCodesAndMetrics) {
     EXPECT_EQ(noNoise.exitCode, 2);
     EXPECT_NE(noNoise.output.find("needs --noise"), std::string::npos) << noNoise.output;
 }
+
+TEST(CommandLine, CompareWithFlipPicksTheVariantAndWritesAMagmaMap) {
+    TemporaryFolder folder;
+    const std::string a = renderSmall(folder, "a", "--spp 8 --seed 1");
+    std::string darker = kSmallScene;
+    darker.replace(darker.find("\"type\": \"diffuse\""), 17, "\"type\": \"diffuse\", \"albedo\": [0.2, 0.2, 0.2]");
+    const std::string changed = renderSmall(folder, "changed", "--spp 8 --seed 1", darker);
+
+    // EXR inputs are linear HDR data: HDR-FLIP.
+    const auto same = nlohmann::json::parse(runIsotrace("compare " + a + " " + a + " --metric flip --json").output);
+    EXPECT_EQ(same["flip"]["variant"], "hdr");
+    EXPECT_EQ(same["value"].get<double>(), 0.0);
+    EXPECT_EQ(same["verdict"], "PASS");
+    const auto hdr = runIsotrace("compare " + changed + " " + a + " --metric flip --json --diff " + folder.file("flip.png"));
+    EXPECT_EQ(hdr.exitCode, 1) << hdr.output;
+    const auto hdrJson = nlohmann::json::parse(hdr.output);
+    EXPECT_GT(hdrJson["flip"]["mean"].get<double>(), 0.05);
+    EXPECT_GE(hdrJson["flip"]["exposures"].get<int>(), 2);
+
+    // The map: magma runs from near black (no error) to pale yellow.
+    const isotrace::Image map = isotrace::readImage(folder.file("flip.png"));
+    EXPECT_EQ(map.width, 16);
+    float darkest = 1, brightest = 0;
+    for (int y = 0; y < map.height; ++y)
+        for (int x = 0; x < map.width; ++x) {
+            darkest = std::min(darkest, map.pixel(x, y)[0]);
+            brightest = std::max(brightest, map.pixel(x, y)[0]);
+            EXPECT_LE(map.pixel(x, y)[1], map.pixel(x, y)[0] + 1e-6) << "magma is never greener than red";
+        }
+    EXPECT_LT(darkest, 0.05f);
+    EXPECT_GT(brightest, 0.3f);
+
+    // The PNG previews are display-encoded: LDR-FLIP, and --metric flip-hdr forces the other.
+    const std::string pa = folder.file("a.png"), pc = folder.file("changed.png");
+    isotrace::writePreviewPng(pa, isotrace::readImage(a), 0.0);
+    isotrace::writePreviewPng(pc, isotrace::readImage(changed), 0.0);
+    const auto ldr = nlohmann::json::parse(runIsotrace("compare " + pc + " " + pa + " --metric flip --json").output);
+    EXPECT_EQ(ldr["flip"]["variant"], "ldr");
+    EXPECT_GT(ldr["value"].get<double>(), 0.0);
+    const auto forced = nlohmann::json::parse(runIsotrace("compare " + pc + " " + pa + " --metric flip-hdr --json").output);
+    EXPECT_EQ(forced["flip"]["variant"], "hdr");
+    // A tighter viewing condition (fewer pixels per degree) is accepted; a silly one is not.
+    EXPECT_EQ(runIsotrace("compare " + a + " " + a + " --metric flip --ppd 30").exitCode, 0);
+    EXPECT_EQ(runIsotrace("compare " + a + " " + a + " --metric flip --ppd 0").exitCode, 2);
+}
