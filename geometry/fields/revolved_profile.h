@@ -35,7 +35,13 @@ struct RevolvedProfileField {
         const double rho = std::hypot(d.x(), d.z());
         const Vec2 q(rho, d.y());
         double best = std::numeric_limits<double>::infinity();
-        Vec2 bestDirection(1, 0);
+        // The signed distance's gradient: beside an edge its outward normal,
+        // whichever side q is on; near a vertex the direction from it.
+        // Taking the normal directly matters on the surface, where the
+        // offset to the edge is rounding noise of either sign and sphere
+        // tracing leaves its hits.
+        Vec2 bestGradient(1, 0);
+        bool nearestIsVertex = false;
         bool inside = true;
         for (int i = 0; i < 4; ++i) {
             const Vec2& a = profile[i];
@@ -50,14 +56,15 @@ struct RevolvedProfileField {
             const double dist = offset.norm();
             if (dist < best) {
                 best = dist;
-                bestDirection = dist > 0 ? Vec2(offset / dist) : Vec2(e.y(), -e.x()).normalized();
+                const Vec2 normal = Vec2(e.y(), -e.x()).normalized();
+                nearestIsVertex = (t <= 0 || t >= 1) && dist > 0;
+                bestGradient = nearestIsVertex ? Vec2(offset / dist) : normal;
             }
         }
         const double sign = inside ? -1.0 : 1.0;
+        if (nearestIsVertex) bestGradient *= sign;
         const double cx = rho > 0 ? d.x() / rho : 1.0, cz = rho > 0 ? d.z() / rho : 0.0;
-        // On the boundary the direction already is the outward edge normal.
-        const double directionSign = best > 0 ? sign : 1.0;
-        gradient = directionSign * Vec3(bestDirection.x() * cx, bestDirection.y(), bestDirection.x() * cz);
+        gradient = Vec3(bestGradient.x() * cx, bestGradient.y(), bestGradient.x() * cz);
         return sign * best;
     }
     Interval range(const Box3& box) const { return rangeFromLipschitz(value(box.center()), 1.0, box); }
