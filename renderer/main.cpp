@@ -14,6 +14,7 @@
 #include "geometry/polygonizer.h"
 #include "mesh_export.h"
 #include "compare_command.h"
+#include "csg_preview.h"
 #include "image_output.h"
 #include "render.h"
 #include "scene_loader.h"
@@ -319,6 +320,21 @@ int main(int argc, char** argv) {
     CompareCommand compare;
     addCompareCommand(app, compare);
 
+    PreviewCommand preview;
+    CLI::App* previewApp = app.add_subcommand(
+        "preview", "Contact sheet of a CSG node: each operand, union, intersection and both differences");
+    previewApp->add_option("scene", preview.scene, "Scene file whose \"fields\" hold the node")->required();
+    previewApp->add_option("--field", preview.field, "Name of the CSG node")->required();
+    previewApp->add_option("-o,--output", preview.output, "The sheet (default: SCENE-FIELD-preview.png)");
+    previewApp->add_option("--section", preview.section,
+                           "Show plane cuts coloured by the field's value instead: x, y or z, optionally =OFFSET")
+        ->type_name("AXIS[=OFFSET]");
+    previewApp->add_option("--panel-width", preview.panelWidth, "Width of each panel")->check(CLI::Range(16, 4096));
+    previewApp->add_option("--panel-height", preview.panelHeight, "Height of each panel")->check(CLI::Range(16, 4096));
+    previewApp->add_option("--spp", preview.spp, "Samples per pixel of each panel")->check(CLI::Range(1, 4096));
+    previewApp->add_option("--threads", preview.threads, "Worker threads (default: all cores)")->check(CLI::Range(1, 4096));
+    previewApp->add_flag("-q,--quiet", preview.quiet, "No timing line");
+
     try {
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp& e) {
@@ -337,6 +353,10 @@ int main(int argc, char** argv) {
         if (*polygonizeApp) return runPolygonize(polygonize);
         if (*mergeApp) return runMerge(merge);
         if (app.got_subcommand("compare")) return runCompare(compare);
+        if (*previewApp) {
+            runPreview(preview);
+            return 0;
+        }
     } catch (const geometry::InputError& e) {
         std::fprintf(stderr, "error: %s\n", e.what());
         return kExitBadInput;

@@ -3,6 +3,7 @@
 #include <Eigen/Geometry>
 #include <cmath>
 #include <filesystem>
+#include <limits>
 #include <map>
 #include <numbers>
 #include <unistd.h>
@@ -63,8 +64,9 @@ public:
     SceneLoader(const std::string& path, const SceneOverrides& overrides)
         : path_(path), overrides_(overrides), directory_(std::filesystem::path(path).parent_path()) {}
 
-    std::unique_ptr<Scene> load() {
-        const Json root = geometry::parseJsonFile(path_);
+    std::unique_ptr<Scene> load() { return load(geometry::parseJsonFile(path_)); }
+
+    std::unique_ptr<Scene> load(const Json& root) {
         JsonObjectReader r(root, "", path_);
         scene_ = std::make_unique<Scene>();
         scene_->sourceFile = path_;
@@ -338,7 +340,10 @@ private:
                 if (!idx.is_array() || idx.empty() || idx.size() % 3 != 0)
                     r.fail("indices", "expected a non-empty array of vertex indices, three per triangle");
                 for (size_t i = 0; i < idx.size(); ++i) {
-                    if (!idx[i].is_number_unsigned())
+                    // Parsed JSON stores non-negative integers as unsigned;
+                    // descriptions built in code may hold signed ones.
+                    if (!idx[i].is_number_integer() || idx[i].get<int64_t>() < 0 ||
+                        idx[i].get<int64_t>() > std::numeric_limits<uint32_t>::max())
                         throw InputError(path_, jsonPointerAppend(r.pointerOf("indices"), i), "expected a vertex index (a whole number >= 0)");
                     mesh.indices.push_back(idx[i].get<uint32_t>());
                 }
@@ -422,6 +427,11 @@ namespace isotrace {
 
 std::unique_ptr<Scene> loadScene(const std::string& path, const SceneOverrides& overrides) {
     return SceneLoader(path, overrides).load();
+}
+
+std::unique_ptr<Scene> loadSceneDescription(const geometry::Json& root, const std::string& path,
+                                            const SceneOverrides& overrides) {
+    return SceneLoader(path, overrides).load(root);
 }
 
 }  // namespace isotrace

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "geometry/input_error.h"
+#include "geometry/json_reader.h"
 #include "scene.h"
 
 namespace isotrace {
@@ -17,6 +18,10 @@ struct SceneOverrides {
 };
 
 std::unique_ptr<Scene> loadScene(const std::string& path, const SceneOverrides& overrides = {});
+/// A scene description already in memory; `path` names it in errors and
+/// anchors relative file names.
+std::unique_ptr<Scene> loadSceneDescription(const geometry::Json& root, const std::string& path,
+                                            const SceneOverrides& overrides = {});
 
 /// Bytes a render of this size needs (film sums, output and preview).
 double estimateFilmBytes(int width, int height);
