@@ -330,3 +330,61 @@ TEST(CommandLine, CompareWithFlipPicksTheVariantAndWritesAMagmaMap) {
     EXPECT_EQ(runIsotrace("compare " + a + " " + a + " --metric flip --ppd 30").exitCode, 0);
     EXPECT_EQ(runIsotrace("compare " + a + " " + a + " --metric flip --ppd 0").exitCode, 2);
 }
+
+// Every metric's exit path on two 2x1 images with hand-computed differences:
+// test (0.5, 0.5, 0.5 | 1, 1, 1) against reference (0.5, 0.5, 0.5 | 0.8, 0.8, 0.8).
+// Squared errors 0.04 in three of six values: rmse sqrt(0.02) = 0.14142,
+// psnr 16.99 dB, max 0.2, mean 0.1, relmse 0.02 / 0.65 = 0.030769 (0.04 / (0.64 + 0.01) in half),
+// over: one of two pixels (0.2 > 0.1 * (0.8 + 0.05)).
+TEST(CommandLine, CompareMetricExitPathsOnHandComputedImages) {
+    TemporaryFolder folder;
+    auto write = [&](const std::string& name, std::vector<float> rgb) {
+        isotrace::Image image;
+        image.width = 2;
+        image.height = 1;
+        image.rgb = std::move(rgb);
+        isotrace::writeImage(folder.file(name), image, {}, false);
+        return folder.file(name);
+    };
+    const std::string test = write("t.exr", {0.5f, 0.5f, 0.5f, 1, 1, 1});
+    const std::string reference = write("r.exr", {0.5f, 0.5f, 0.5f, 0.8f, 0.8f, 0.8f});
+    auto exitOf = [&](const std::string& arguments) { return runIsotrace("compare " + test + " " + reference + " " + arguments).exitCode; };
+    EXPECT_EQ(exitOf("--metric rmse --fail 0.1415"), 0);
+    EXPECT_EQ(exitOf("--metric rmse --fail 0.1414"), 1);
+    EXPECT_EQ(exitOf("--metric psnr --fail 16.9"), 0);  // psnr fails when below
+    EXPECT_EQ(exitOf("--metric psnr --fail 17.1"), 1);
+    EXPECT_EQ(exitOf("--metric max --fail 0.2001"), 0);
+    EXPECT_EQ(exitOf("--metric max --fail 0.1999"), 1);
+    EXPECT_EQ(exitOf("--metric mean --fail 0.1001"), 0);
+    EXPECT_EQ(exitOf("--metric mean --fail 0.0999"), 1);
+    EXPECT_EQ(exitOf("--metric relmse --fail 0.0308"), 0);
+    EXPECT_EQ(exitOf("--metric relmse --fail 0.0307"), 1);
+    EXPECT_EQ(exitOf("--metric over --fail 0.51"), 0);
+    EXPECT_EQ(exitOf("--metric over --fail 0.49"), 1);
+    EXPECT_EQ(exitOf("--fail 1 --fail-percent 51"), 0);
+    EXPECT_EQ(exitOf("--fail 1 --fail-percent 49"), 1);
+    const auto warned = runIsotrace("compare " + test + " " + reference + " --fail 1 --warn 0.1");
+    EXPECT_EQ(warned.exitCode, 0);
+    EXPECT_NE(warned.output.find("WARN"), std::string::npos) << warned.output;
+    const auto json = nlohmann::json::parse(runIsotrace("compare " + test + " " + reference + " --fail 1 --json").output);
+    EXPECT_NEAR(json["rmse"].get<double>(), std::sqrt(0.02), 1e-6);
+    EXPECT_NEAR(json["psnr"].get<double>(), -20 * std::log10(std::sqrt(0.02)), 1e-4);
+    EXPECT_NEAR(json["relmse"].get<double>(), 0.02 / 0.65, 1e-6);
+
+    // A NaN fails whatever the threshold, and is located.
+    const std::string withNan = write("n.exr", {0.5f, std::nanf(""), 0.5f, 1, 1, 1});
+    const auto nan = runIsotrace("compare " + withNan + " " + reference + " --fail 100");
+    EXPECT_EQ(nan.exitCode, 1);
+    EXPECT_NE(nan.output.find("first at (0, 0)"), std::string::npos) << nan.output;
+    // Different channel sets: bad input, naming them.
+    isotrace::Image withAlpha;
+    withAlpha.width = 2;
+    withAlpha.height = 1;
+    withAlpha.rgb = {0.5f, 0.5f, 0.5f, 1, 1, 1};
+    withAlpha.extraChannels = {"A"};
+    withAlpha.extra = {1, 1};
+    isotrace::writeImage(folder.file("a.exr"), withAlpha, {}, false);
+    const auto channels = runIsotrace("compare " + folder.file("a.exr") + " " + reference);
+    EXPECT_EQ(channels.exitCode, 2);
+    EXPECT_NE(channels.output.find("channels R,G,B,A differ"), std::string::npos) << channels.output;
+}
