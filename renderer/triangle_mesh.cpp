@@ -1,11 +1,8 @@
 #include "triangle_mesh.h"
 
-#include <assimp/Importer.hpp>
-#include <assimp/postprocess.h>
-#include <assimp/scene.h>
-#include <filesystem>
 
 #include "geometry/input_error.h"
+#include "geometry/mesh_file.h"
 
 namespace isotrace {
 
@@ -54,39 +51,12 @@ void TriangleMesh::computeSmoothNormals() {
 }
 
 TriangleMesh loadTriangleMesh(const std::string& path) {
-    std::error_code ec;
-    if (!std::filesystem::is_regular_file(path, ec)) throw InputError(path, "", "mesh file not found");
-    Assimp::Importer importer;
-    // No post-processing: Assimp's steps assert (abort) on some corrupt
-    // files, and degenerate triangles are to be reported, not hidden.
-    // Polygons are split into fans below.
-    const aiScene* scene = importer.ReadFile(path, 0);
-    if (!scene || (scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE) || !scene->mRootNode)
-        throw InputError(path, "", std::string("cannot read mesh: ") + importer.GetErrorString());
+    const geometry::IndexedMesh read = geometry::readMeshFile(path);
     TriangleMesh mesh;
-    for (unsigned m = 0; m < scene->mNumMeshes; ++m) {
-        const aiMesh* am = scene->mMeshes[m];
-        const uint32_t base = static_cast<uint32_t>(mesh.vertexCount());
-        for (unsigned v = 0; v < am->mNumVertices; ++v) {
-            const aiVector3D& p = am->mVertices[v];
-            if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
-                throw InputError(path, "vertex " + std::to_string(v), "vertex coordinate is not a finite number");
-            mesh.positions.insert(mesh.positions.end(), {p.x, p.y, p.z});
-        }
-        for (unsigned f = 0; f < am->mNumFaces; ++f) {
-            const aiFace& face = am->mFaces[f];
-            for (unsigned k = 0; k < face.mNumIndices; ++k)
-                if (face.mIndices[k] >= am->mNumVertices)
-                    throw InputError(path, "face " + std::to_string(f),
-                                     "refers to vertex " + std::to_string(face.mIndices[k]) + " of " +
-                                         std::to_string(am->mNumVertices));
-            // Points and lines carry no surface; polygons become fans.
-            for (unsigned k = 2; k < face.mNumIndices; ++k)
-                mesh.indices.insert(mesh.indices.end(),
-                                    {base + face.mIndices[0], base + face.mIndices[k - 1], base + face.mIndices[k]});
-        }
-    }
-    if (mesh.triangleCount() == 0) throw InputError(path, "", "mesh has no triangles");
+    mesh.positions.reserve(3 * read.vertices.size());
+    for (const Vec3& v : read.vertices) mesh.positions.insert(mesh.positions.end(), {float(v.x()), float(v.y()), float(v.z())});
+    mesh.indices.reserve(3 * read.triangles.size());
+    for (const auto& t : read.triangles) mesh.indices.insert(mesh.indices.end(), t.begin(), t.end());
     return mesh;
 }
 
