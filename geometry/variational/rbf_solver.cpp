@@ -1,0 +1,206 @@
+#include "rbf_solver.h"
+
+#include <Eigen/Cholesky>
+#include <Eigen/QR>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <tbb/parallel_for.h>
+
+namespace isotrace::geometry {
+
+namespace {
+
+std::string describe(const Vec3& p) {
+    char text[96];
+    std::snprintf(text, sizeof text, "(%.6g, %.6g, %.6g)", p.x(), p.y(), p.z());
+    return text;
+}
+
+// Pairs closer than `tolerance` make two equal rows: the first such pair.
+template <class Constraint>
+void rejectCoincident(const std::vector<Constraint>& constraints, double tolerance, const char* kind) {
+    // Hash grid of cell size `tolerance`: neighbours are in adjacent cells.
+    std::map<std::array<long long, 3>, std::vector<size_t>> grid;
+    auto cellOf = [&](const Vec3& p) {
+        return std::array<long long, 3>{(long long)std::floor(p.x() / tolerance), (long long)std::floor(p.y() / tolerance),
+                                        (long long)std::floor(p.z() / tolerance)};
+    };
+    for (size_t i = 0; i < constraints.size(); ++i) {
+        const Vec3& p = constraints[i].position;
+        const auto c = cellOf(p);
+        for (int dx = -1; dx <= 1; ++dx)
+            for (int dy = -1; dy <= 1; ++dy)
+                for (int dz = -1; dz <= 1; ++dz) {
+                    auto it = grid.find({c[0] + dx, c[1] + dy, c[2] + dz});
+                    if (it == grid.end()) continue;
+                    for (size_t j : it->second)
+                        if ((constraints[j].position - p).norm() <= tolerance)
+                            throw FitError(std::string(kind) + " constraints " + std::to_string(j) + " and " +
+                                           std::to_string(i) + " coincide at " + describe(p) +
+                                           ": two equal rows make the system singular; merge or remove one");
+                }
+        grid[c].push_back(i);
+    }
+}
+
+double cube(double r) { return r * r * r; }
+
+}  // namespace
+
+double denseFitBytes(size_t unknowns) { return 8.0 * double(unknowns) * double(unknowns); }
+
+VariationalField fitVariationalField(const ConstraintSet& set, FitReport* report, const FitOptions& options) {
+    const auto start = std::chrono::steady_clock::now();
+    const size_t n = set.values.size(), k = set.gradients.size();
+    const size_t m = n + 3 * k;  // functionals: values, then gradient components
+    if (m + 4 > options.maxUnknowns) {
+        char text[256];
+        std::snprintf(text, sizeof text,
+                      "%zu unknowns need %.1f GB for the dense solve, above the limit of %zu unknowns (%.1f GB); "
+                      "use fewer constraints",
+                      m + 4, denseFitBytes(m) / 1e9, options.maxUnknowns, denseFitBytes(options.maxUnknowns) / 1e9);
+        throw FitError(text);
+    }
+    if (n == 0) throw FitError("there are no value constraints: the surface's position is not fixed");
+    for (const ValueConstraint& c : set.values)
+        if (!c.position.allFinite() || !std::isfinite(c.value))
+            throw FitError("a value constraint at " + describe(c.position) + " is not finite");
+    for (const GradientConstraint& c : set.gradients)
+        if (!c.position.allFinite() || !c.gradient.allFinite())
+            throw FitError("a gradient constraint at " + describe(c.position) + " is not finite");
+    bool anyNonZero = false;
+    for (const ValueConstraint& c : set.values) anyNonZero |= c.value != 0.0;
+    for (const GradientConstraint& c : set.gradients) anyNonZero |= c.gradient.squaredNorm() > 0.0;
+    if (!anyNonZero)
+        throw FitError("every constraint is zero, so f = 0 fits them all and there is no surface; add interior, "
+                       "exterior or normal constraints");
+
+    const Box3 box = set.bounds();
+    const double size = std::max(box.extent().norm(), 1e-300);
+    rejectCoincident(set.values, 1e-9 * size, "value");
+    rejectCoincident(set.gradients, 1e-9 * size, "gradient");
+
+    // Positions relative to the box centre and in units of its size keep
+    // the matrix entries near 1 whatever the model's scale.
+    const Vec3 origin = box.center();
+    const double scale = 1.0 / size;
+    auto local = [&](const Vec3& p) { return Vec3((p - origin) * scale); };
+    std::vector<Vec3> at(m);
+    for (size_t i = 0; i < n; ++i) at[i] = local(set.values[i].position);
+    for (size_t g = 0; g < k; ++g) at[n + 3 * g] = at[n + 3 * g + 1] = at[n + 3 * g + 2] = local(set.gradients[g].position);
+
+    // Polynomial part: rows [1, x, y, z] for values, [0, e_a] for gradients.
+    Eigen::MatrixXd P = Eigen::MatrixXd::Zero(m, 4);
+    Eigen::VectorXd h(m);
+    for (size_t i = 0; i < n; ++i) {
+        P.row(i) << 1.0, at[i].x(), at[i].y(), at[i].z();
+        h[i] = set.values[i].value;
+    }
+    for (size_t g = 0; g < k; ++g)
+        for (int a = 0; a < 3; ++a) {
+            P(n + 3 * g + a, 1 + a) = 1.0;
+            // d/dx_local = size * d/dx.
+            h[n + 3 * g + a] = set.gradients[g].gradient[a] * size;
+        }
+    const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> rank(P);
+    if (rank.rank() < 4)
+        throw FitError("all " + std::to_string(n) +
+                       " constraint points lie in one plane (or on a line) and no gradient constraint leaves it: a "
+                       "degree-one polynomial is not determined; add a constraint off that plane");
+
+    // A: phi between functionals (see variational_field.h for the signs).
+    Eigen::MatrixXd A(m, m);
+    tbb::parallel_for(size_t(0), m, [&](size_t col) {
+        for (size_t row = col; row < m; ++row) {
+            const Vec3 d = at[row] - at[col];
+            const double r = d.norm();
+            const bool rowValue = row < n, colValue = col < n;
+            const int ra = rowValue ? 0 : int((row - n) % 3), ca = colValue ? 0 : int((col - n) % 3);
+            double v;
+            if (rowValue && colValue) v = cube(r);
+            else if (!rowValue && colValue) v = 3.0 * r * d[ra];          // d_a phi(c_row - c_col)
+            else if (rowValue && !colValue) v = -3.0 * r * d[ca];         // -d_a phi(c_row - c_col)
+            else v = r > 0 ? -3.0 * ((ra == ca ? r : 0.0) + d[ra] * d[ca] / r) : 0.0;
+            A(row, col) = v;
+            A(col, row) = v;
+        }
+    });
+
+    // Project onto the null space of P^T: with P = Q R, the last m - 4
+    // columns of Q span it, and Q^T A Q's trailing block is positive definite.
+    const Eigen::HouseholderQR<Eigen::MatrixXd> qr(P);
+    const auto Q = qr.householderQ();
+    A.applyOnTheLeft(Q.transpose());
+    A.applyOnTheRight(Q);
+    Eigen::VectorXd qh = Q.transpose() * h;
+    const Eigen::Index free = Eigen::Index(m) - 4;
+    Eigen::VectorXd gamma = Eigen::VectorXd::Zero(free);
+    double rcond = 1.0;
+    if (free > 0) {
+        Eigen::Ref<Eigen::MatrixXd> block = A.bottomRightCorner(free, free);
+        const Eigen::LLT<Eigen::Ref<Eigen::MatrixXd>> llt(block);
+        if (llt.info() != Eigen::Success)
+            throw FitError("the projected system is not positive definite: constraints too close together for "
+                           "double precision (or nearly all in one plane); thin them out");
+        rcond = llt.rcond();
+        gamma = llt.solve(qh.tail(free));
+    }
+    // Polynomial: R c = (Q^T h)_top - (Q^T A Q)_top,right gamma (that block
+    // is untouched by the in-place factorisation).
+    const Eigen::Vector4d top = qh.head<4>() - A.topRightCorner(4, free) * gamma;
+    const Eigen::Vector4d c = qr.matrixQR().topLeftCorner<4, 4>().triangularView<Eigen::Upper>().solve(top);
+    Eigen::VectorXd padded = Eigen::VectorXd::Zero(m);
+    padded.tail(free) = gamma;
+    const Eigen::VectorXd coefficients = Q * padded;
+
+    // Back to world units: |x - c|^3 = |x_l - c_l|^3 / scale^3 and
+    // grad phi scales by 1 / scale^2.
+    VariationalField field;
+    field.centers.reserve(n);
+    field.weights.reserve(n);
+    for (size_t i = 0; i < n; ++i) {
+        field.centers.push_back(set.values[i].position);
+        field.weights.push_back(coefficients[i] * cube(scale));
+    }
+    for (size_t g = 0; g < k; ++g) {
+        field.gradientCenters.push_back(set.gradients[g].position);
+        field.gradientWeights.push_back(
+            Vec3(coefficients[n + 3 * g], coefficients[n + 3 * g + 1], coefficients[n + 3 * g + 2]) * (scale * scale));
+    }
+    // p0 + p . x_l with x_l = (x - origin) scale.
+    field.linear = Vec3(c[1], c[2], c[3]) * scale;
+    field.constant = c[0] - field.linear.dot(origin);
+    field.domain = box.expanded(options.domainMargin * size);
+
+    FitReport r;
+    r.unknowns = m + 4;
+    r.reciprocalCondition = rcond;
+    // Residuals against the world-unit field, as users will evaluate it.
+    std::vector<double> residual(n + k, 0.0);
+    tbb::parallel_for(size_t(0), n + k, [&](size_t i) {
+        if (i < n) {
+            residual[i] = std::abs(field.value(set.values[i].position) - set.values[i].value);
+        } else {
+            Vec3 g;
+            field.valueAndGradient(set.gradients[i - n].position, g);
+            residual[i] = (g - set.gradients[i - n].gradient).cwiseAbs().maxCoeff();
+        }
+    });
+    for (double e : residual) r.maxResidual = std::max(r.maxResidual, e);
+    double valueScale = 0.0;
+    for (const ValueConstraint& v : set.values) valueScale = std::max(valueScale, std::abs(v.value));
+    if (rcond < 1e-13)
+        r.warnings.push_back("the system is poorly conditioned (reciprocal condition " + std::to_string(rcond) +
+                             "); residual " + std::to_string(r.maxResidual));
+    if (r.maxResidual > 1e-6 * std::max(valueScale, 1e-300))
+        r.warnings.push_back("the fit misses its constraints by up to " + std::to_string(r.maxResidual) +
+                             " (values up to " + std::to_string(valueScale) + ")");
+    r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (report) *report = r;
+    return field;
+}
+
+}  // namespace isotrace::geometry

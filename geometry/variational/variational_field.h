@@ -1,0 +1,39 @@
+// A variational implicit surface: the smoothest function (in the thin-plate
+// sense of phi(r) = r^3 in 3D) through its constraints,
+//   f(x) = sum_i w_i |x - c_i|^3 - sum_k b_k . grad(|x - c_k|^3) + p0 + p . x,
+// fitted by fitVariationalField (rbf_solver.h). The second sum carries the
+// exact gradient constraints (Hermite interpolation); it is empty otherwise.
+// Negative inside, positive outside, like every field here.
+#pragma once
+
+#include <vector>
+
+#include "geometry/bounding_box.h"
+#include "geometry/interval.h"
+
+namespace isotrace::geometry {
+
+struct VariationalField {
+    std::vector<Vec3> centers;           ///< value-constraint positions c_i
+    std::vector<double> weights;         ///< w_i
+    std::vector<Vec3> gradientCenters;   ///< gradient-constraint positions c_k
+    std::vector<Vec3> gradientWeights;   ///< b_k
+    double constant = 0.0;               ///< p0
+    Vec3 linear = Vec3::Zero();          ///< p
+    /// Where the surface is rendered and polygonized: the constraints' box
+    /// grown by a margin. Outside it the field is not guaranteed positive.
+    Box3 domain;
+
+    double value(const Vec3& x) const;
+    double valueAndGradient(const Vec3& x, Vec3& gradient) const;
+    /// Sound over the box: the value and gradient at its centre plus
+    /// second-order remainders bounded through |D^2 r^3| <= 6 r and
+    /// |D^3 r^3| <= 12 (per unit weight).
+    Interval range(const Box3& box) const;
+    double lipschitz(const Box3& box) const;
+    Box3 bounds() const { return domain; }
+    size_t termCount() const { return centers.size() + 3 * gradientCenters.size(); }
+    size_t constraintCount() const { return centers.size() + gradientCenters.size(); }
+};
+
+}  // namespace isotrace::geometry
