@@ -1,10 +1,12 @@
 #include "field_parser.h"
 
 #include "transform_description.h"
+#include "variational/variational_description.h"
 
 #include <Eigen/SVD>
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <functional>
 #include <map>
 #include <numbers>
@@ -312,6 +314,14 @@ uint32_t makeConvolution(Compiler& c, JsonObjectReader& r, const LeafPlacement& 
     return c.program.addLeaf(std::move(f), p);
 }
 
+// ---- variational implicit surfaces (Turk and O'Brien) ---------------------
+
+uint32_t makeVariational(Compiler& c, JsonObjectReader& r, const LeafPlacement& p) {
+    // Files named in the description are relative to the scene file.
+    const std::string base = std::filesystem::path(c.file()).parent_path().string();
+    return c.program.addLeaf(VariationalLeafField{variationalFieldFromDescription(r, base)}, p);
+}
+
 // ---- operators -----------------------------------------------------------
 
 // Folds operands pairwise as a balanced tree, so pruning can drop whole halves.
@@ -391,6 +401,7 @@ const std::map<std::string, FieldFactory>& registry() {
         {"blobby", makeBlobby},
         {"distance", makeDistance},
         {"convolution", makeConvolution},
+        {"variational", makeVariational},
         {"union", makeUnion},
         {"intersection", makeIntersection},
         {"difference", makeDifference},

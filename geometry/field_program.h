@@ -20,11 +20,13 @@
 #include "fields/revolved_profile.h"
 #include "fields/sphere.h"
 #include "fields/torus.h"
+#include "fields/variational.h"
 
 namespace isotrace::geometry {
 
 using LeafShape = std::variant<SphereField, BoxField, TorusField, PlaneField, EllipsoidField, RevolvedProfileField,
-                               PolylineDistanceField, PolynomialField, BlobbyField, ConvolutionField>;
+                               PolylineDistanceField, PolynomialField, BlobbyField, ConvolutionField,
+                               VariationalLeafField>;
 
 /// Where a leaf sits: its shape is evaluated at leafFromWorld(p) and its value
 /// multiplied by valueScale (the smallest singular value of the accumulated

@@ -36,6 +36,7 @@ public:
     JsonObjectReader(const Json& json, std::string pointer, std::string file);
 
     const std::string& pointer() const { return pointer_; }
+    const Json& json() const { return *json_; }
     const std::string& file() const { return file_; }
     std::string pointerOf(const std::string& key) const { return jsonPointerAppend(pointer_, key); }
 

@@ -8,6 +8,7 @@
 #include <limits>
 #include <sstream>
 
+#include "geometry/content_hash.h"
 #include "geometry/field_parser.h"
 #include "geometry/input_error.h"
 #include "geometry/mesh_analysis.h"
@@ -39,19 +40,11 @@ struct RenderCommand {
     std::string tile;       ///< "I/N"
 };
 
-// FNV-1a of the scene file's bytes: tiles of one frame must come from the
-// same scene text, wherever it was stored.
+// Tiles of one frame must come from the same scene text, wherever it was stored.
 std::string sceneHash(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    uint64_t h = 1469598103934665603ULL;
-    char c;
-    while (in.get(c)) {
-        h ^= static_cast<unsigned char>(c);
-        h *= 1099511628211ULL;
-    }
-    char text[17];
-    std::snprintf(text, sizeof text, "%016llx", static_cast<unsigned long long>(h));
-    return text;
+    uint64_t hash = geometry::kFnvOffsetBasis;
+    geometry::fnv1a64File(path, hash);
+    return geometry::hexDigest(hash);
 }
 
 // The window asked for by --crop or --tile, checked against the frame.

@@ -48,6 +48,23 @@ void rejectCoincident(const std::vector<Constraint>& constraints, double toleran
 
 double cube(double r) { return r * r * r; }
 
+// True when f > 0 at a 24 x 24 grid on each face of the box.
+bool positiveOnFaces(const VariationalField& f, const Box3& box) {
+    constexpr int n = 24;
+    for (int axis = 0; axis < 3; ++axis)
+        for (int side = 0; side < 2; ++side)
+            for (int i = 0; i <= n; ++i)
+                for (int j = 0; j <= n; ++j) {
+                    Vec3 p;
+                    const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+                    p[axis] = side ? box.upper[axis] : box.lower[axis];
+                    p[u] = box.lower[u] + box.extent()[u] * i / n;
+                    p[v] = box.lower[v] + box.extent()[v] * j / n;
+                    if (!(f.value(p) > 0)) return false;
+                }
+    return true;
+}
+
 }  // namespace
 
 double denseFitBytes(size_t unknowns) { return 8.0 * double(unknowns) * double(unknowns); }
@@ -173,7 +190,14 @@ VariationalField fitVariationalField(const ConstraintSet& set, FitReport* report
     // p0 + p . x_l with x_l = (x - origin) scale.
     field.linear = Vec3(c[1], c[2], c[3]) * scale;
     field.constant = c[0] - field.linear.dot(origin);
-    field.domain = box.expanded(options.domainMargin * size);
+    // The domain must hold the whole surface: grow it until the field is
+    // positive all over its faces (sampled), or warn.
+    double margin = options.domainMargin;
+    bool enclosed = false;
+    for (int attempt = 0; attempt < 6 && !enclosed; ++attempt, margin *= 2) {
+        field.domain = box.expanded(margin * size);
+        enclosed = positiveOnFaces(field, field.domain);
+    }
 
     FitReport r;
     r.unknowns = m + 4;
@@ -192,6 +216,9 @@ VariationalField fitVariationalField(const ConstraintSet& set, FitReport* report
     for (double e : residual) r.maxResidual = std::max(r.maxResidual, e);
     double valueScale = 0.0;
     for (const ValueConstraint& v : set.values) valueScale = std::max(valueScale, std::abs(v.value));
+    if (!enclosed)
+        r.warnings.push_back("the surface reaches the edge of its domain even at a margin of " +
+                             std::to_string(margin / 2) + " of the constraints' size; it is cut there");
     if (rcond < 1e-13)
         r.warnings.push_back("the system is poorly conditioned (reciprocal condition " + std::to_string(rcond) +
                              "); residual " + std::to_string(r.maxResidual));
