@@ -16,6 +16,7 @@
 #include "mesh_export.h"
 #include "compare_command.h"
 #include "csg_preview.h"
+#include "fit_command.h"
 #include "image_output.h"
 #include "render.h"
 #include "scene_loader.h"
@@ -313,6 +314,20 @@ int main(int argc, char** argv) {
     CompareCommand compare;
     addCompareCommand(app, compare);
 
+    FitCommand fit;
+    CLI::App* fitApp = app.add_subcommand(
+        "fit", "Fit a variational implicit surface to a polygon model (OFF, OBJ, PLY) or oriented points (.xyz, .pwn)");
+    fitApp->add_option("input", fit.input, "Polygon model or oriented point set (x y z nx ny nz per line)")->required();
+    fitApp->add_option("-o,--output", fit.output, "The fitted field (JSON), for {\"type\": \"variational\", \"fitted\": ...}")
+        ->required();
+    fitApp->add_option("--normal-offset", fit.normalOffset,
+                       "Distance of the normal constraints from the surface (default 0.01 of the bounding-box diagonal)")
+        ->check(CLI::PositiveNumber);
+    fitApp->add_flag("--hermite", fit.hermite, "Exact gradient constraints instead of offset normal constraints");
+    fitApp->add_option("--margin", fit.margin, "Initial domain margin, a fraction of the bounding-box diagonal")
+        ->check(CLI::PositiveNumber);
+    fitApp->add_flag("-q,--quiet", fit.quiet, "No summary line");
+
     PreviewCommand preview;
     CLI::App* previewApp = app.add_subcommand(
         "preview", "Contact sheet of a CSG node: each operand, union, intersection and both differences");
@@ -346,6 +361,10 @@ int main(int argc, char** argv) {
         if (*polygonizeApp) return runPolygonize(polygonize);
         if (*mergeApp) return runMerge(merge);
         if (app.got_subcommand("compare")) return runCompare(compare);
+        if (*fitApp) {
+            runFit(fit);
+            return 0;
+        }
         if (*previewApp) {
             runPreview(preview);
             return 0;

@@ -214,14 +214,24 @@ VariationalField fitVariationalField(const ConstraintSet& set, FitReport* report
         }
     });
     for (double e : residual) r.maxResidual = std::max(r.maxResidual, e);
+    // Residuals are judged against the size of what was asked for.
     double valueScale = 0.0;
     for (const ValueConstraint& v : set.values) valueScale = std::max(valueScale, std::abs(v.value));
+    for (const GradientConstraint& g : set.gradients) valueScale = std::max(valueScale, g.gradient.norm() * size);
+    char text[160];
+    if (r.maxResidual > 1e-6 * valueScale) {
+        std::snprintf(text, sizeof text, "the fit misses its constraints by up to %.3g (constraint values up to %.3g)",
+                      r.maxResidual, valueScale);
+        r.warnings.push_back(text);
+    }
     if (!enclosed)
         r.warnings.push_back("the surface reaches the edge of its domain even at a margin of " +
                              std::to_string(margin / 2) + " of the constraints' size; it is cut there");
-    if (rcond < 1e-13)
-        r.warnings.push_back("the system is poorly conditioned (reciprocal condition " + std::to_string(rcond) +
-                             "); residual " + std::to_string(r.maxResidual));
+    if (rcond < 1e-13) {
+        std::snprintf(text, sizeof text, "the system is poorly conditioned (reciprocal condition %.3g); residual %.3g",
+                      rcond, r.maxResidual);
+        r.warnings.push_back(text);
+    }
     if (r.maxResidual > 1e-6 * std::max(valueScale, 1e-300))
         r.warnings.push_back("the fit misses its constraints by up to " + std::to_string(r.maxResidual) +
                              " (values up to " + std::to_string(valueScale) + ")");

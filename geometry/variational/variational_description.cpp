@@ -211,6 +211,7 @@ std::shared_ptr<const VariationalField> variationalFieldFromDescription(JsonObje
                                                                          const std::string& baseDirectory) {
     if (r.has("fitted")) {
         const std::string path = resolved(r.string("fitted"), baseDirectory);
+        r.finish();  // a misspelt key fails before any file is read
         try {
             return std::make_shared<const VariationalField>(variationalFieldFromJson(parseJsonFile(path), path));
         } catch (const InputError& e) {
@@ -218,6 +219,7 @@ std::shared_ptr<const VariationalField> variationalFieldFromDescription(JsonObje
         }
     }
     const VariationalSource source = readVariationalSource(r, baseDirectory);
+    r.finish();  // a misspelt key fails before a possibly long fit
     {
         std::lock_guard<std::mutex> lock(cacheMutex);
         if (auto it = memoryCache().find(source.hash); it != memoryCache().end()) return it->second;

@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include <cstring>
+#include <fstream>
 
 #include "renderer/image_output.h"
 
@@ -387,4 +388,52 @@ TEST(CommandLine, CompareMetricExitPathsOnHandComputedImages) {
     const auto channels = runIsotrace("compare " + folder.file("a.exr") + " " + reference);
     EXPECT_EQ(channels.exitCode, 2);
     EXPECT_NE(channels.output.find("channels R,G,B,A differ"), std::string::npos) << channels.output;
+}
+
+TEST(CommandLine, FitWritesAFieldScenesLoadAndRefusesBadInput) {
+    TemporaryFolder folder;
+    const std::string fitted = folder.file("sphere.fit.json");
+    const auto fit = runIsotrace("fit " + std::string(ISOTRACE_TEST_DATA_DIR) + "/sphere926.pwn -o " + fitted);
+    ASSERT_EQ(fit.exitCode, 0) << fit.output;
+    EXPECT_NE(fit.output.find("fitted 1852 value and 0 gradient constraints (1856 unknowns)"), std::string::npos)
+        << fit.output;
+    const auto saved = nlohmann::json::parse(std::ifstream(fitted));
+    EXPECT_EQ(saved["centers"].size(), 1852u);
+    EXPECT_EQ(saved["source"]["points"]["count"], 926);
+    EXPECT_LT(saved["fit"]["max_residual"].get<double>(), 1e-7);
+
+    // A scene loads it without fitting again: polygonized, it is a sphere
+    // (one component, Euler characteristic 2). (Sphere tracing it at its
+    // full 1,852 terms per step is slow until the fast evaluator lands.)
+    std::string scene = kSmallScene;
+    scene.replace(scene.find("{\"type\": \"sphere\", \"radius\": 1}"), 31,
+                  "{\"type\": \"variational\", \"fitted\": \"sphere.fit.json\"}");
+    const std::string scenePath = folder.write("fitted.json", scene);
+    const auto mesh = runIsotrace("polygonize " + scenePath + " --field ball --resolution 24 --report -o " +
+                                  folder.file("ball.ply"));
+    ASSERT_EQ(mesh.exitCode, 0) << mesh.output;
+    const auto report = nlohmann::json::parse(mesh.output);
+    EXPECT_EQ(report["euler_characteristic"], 2);
+    EXPECT_EQ(report["watertight"], true);
+
+    // Bad input: nothing written, exit 2, the file named.
+    const std::string out = folder.file("bad.fit.json");
+    // Points on a line with normals along z: with their offset points, all in the plane y = 0.
+    const std::string flat = folder.write("flat.xyz", "0 0 0 0 0 1\n1 0 0 0 0 1\n2 0 0 0 0 1\n3 0 0 0 0 1\n");
+    const std::string malformed = folder.write("malformed.xyz", "0 0 0 0 0 1\n0 0 x 0 0 1\n");
+    struct Case {
+        std::string arguments, message;
+    } cases[] = {
+        {"fit " + folder.file("none.off") + " -o " + out, "not found"},
+        {"fit " + malformed + " -o " + out, "line 2"},
+        {"fit " + flat + " -o " + out, "lie in one plane"},
+        {"fit " + flat + " -o " + folder.file("no/such/folder.json"), "does not exist"},
+        {"fit " + flat + " -o " + out + " --normal-offset -1", "normal-offset"},
+    };
+    for (const Case& c : cases) {
+        const auto r = runIsotrace(c.arguments);
+        EXPECT_EQ(r.exitCode, 2) << c.arguments;
+        EXPECT_NE(r.output.find(c.message), std::string::npos) << c.arguments << ": " << r.output;
+        EXPECT_FALSE(std::filesystem::exists(out)) << c.arguments;
+    }
 }
