@@ -30,6 +30,27 @@ public:
 
     const std::string& file() const { return file_; }
 
+    /// A field compiled on its own (names resolve in the same library, with
+    /// the same cycle check).
+    FieldProgram compileAlone(const Json& description, const std::string& pointer) {
+        Compiler alone(library_, libraryPointer_, file_);
+        alone.stack_ = stack_;
+        alone.node(description, pointer, {});
+        return std::move(alone.program);
+    }
+
+    /// The description a name stands for, and its pointer.
+    std::pair<const Json*, std::string> describe(const std::string& name, const std::string& pointer) {
+        if (!library_.contains(name)) {
+            std::vector<std::string> names;
+            for (auto it = library_.begin(); it != library_.end(); ++it) names.push_back(it.key());
+            std::string message = "unknown field \"" + name + "\"";
+            if (auto near = nearestName(name, names)) message += " (did you mean \"" + *near + "\"?)";
+            throw InputError(file_, pointer, message);
+        }
+        return {&library_.at(name), jsonPointerAppend(libraryPointer_, name)};
+    }
+
     uint32_t node(const Json& j, const std::string& pointer, const LeafPlacement& placement) {
         if (j.is_string()) return reference(j.get<std::string>(), pointer, placement);
         if (!j.is_object())
@@ -86,20 +107,14 @@ public:
 
 private:
     uint32_t reference(const std::string& name, const std::string& pointer, const LeafPlacement& placement) {
-        if (!library_.contains(name)) {
-            std::vector<std::string> names;
-            for (auto it = library_.begin(); it != library_.end(); ++it) names.push_back(it.key());
-            std::string message = "unknown field \"" + name + "\"";
-            if (auto near = nearestName(name, names)) message += " (did you mean \"" + *near + "\"?)";
-            throw InputError(file_, pointer, message);
-        }
+        const auto [description, at] = describe(name, pointer);
         if (std::find(stack_.begin(), stack_.end(), name) != stack_.end()) {
             std::string chain;
             for (auto it = std::find(stack_.begin(), stack_.end(), name); it != stack_.end(); ++it) chain += *it + " -> ";
             throw InputError(file_, pointer, "cycle in the field graph: " + chain + name);
         }
         stack_.push_back(name);
-        const uint32_t slot = node(library_.at(name), jsonPointerAppend(libraryPointer_, name), placement);
+        const uint32_t slot = node(*description, at, placement);
         stack_.pop_back();
         return slot;
     }
@@ -317,9 +332,12 @@ uint32_t makeConvolution(Compiler& c, JsonObjectReader& r, const LeafPlacement& 
 // ---- variational implicit surfaces (Turk and O'Brien) ---------------------
 
 uint32_t makeVariational(Compiler& c, JsonObjectReader& r, const LeafPlacement& p) {
+    VariationalContext context;
     // Files named in the description are relative to the scene file.
-    const std::string base = std::filesystem::path(c.file()).parent_path().string();
-    return c.program.addLeaf(VariationalLeafField{variationalFieldFromDescription(r, base)}, p);
+    context.baseDirectory = std::filesystem::path(c.file()).parent_path().string();
+    context.compile = [&](const Json& field, const std::string& pointer) { return c.compileAlone(field, pointer); };
+    context.describe = [&](const std::string& name, const std::string& pointer) { return c.describe(name, pointer); };
+    return c.program.addLeaf(VariationalLeafField{variationalFieldFromDescription(r, context)}, p);
 }
 
 // ---- operators -----------------------------------------------------------

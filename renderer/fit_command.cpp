@@ -28,7 +28,8 @@ void runFit(const FitCommand& c) {
     geometry::JsonObjectReader reader(description, "", "command line");
     reader.string("type");
     // Errors inside the input file name it and the line.
-    const geometry::VariationalSource source = geometry::readVariationalSource(reader, "");
+    geometry::VariationalContext context;
+    const geometry::VariationalSource source = geometry::readVariationalSource(reader, context);
     geometry::FitReport report;
     geometry::VariationalField field;
     try {

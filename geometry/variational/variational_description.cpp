@@ -1,5 +1,6 @@
 #include "variational_description.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -10,6 +11,7 @@
 
 #include "geometry/content_hash.h"
 #include "geometry/mesh_file.h"
+#include "geometry/polygonizer.h"
 
 namespace isotrace::geometry {
 
@@ -73,37 +75,72 @@ void writeAtomically(const std::string& path, const std::string& text) {
 
 }  // namespace
 
-VariationalSource readVariationalSource(JsonObjectReader& r, const std::string& baseDirectory) {
+namespace {
+
+// Oriented points on the surface of any field: the vertices of a
+// marching-cubes mesh, every k-th to get about `count`, with the field's
+// gradient directions as normals.
+std::vector<OrientedPoint> samplesOf(const FieldProgram& field, int count, JsonObjectReader& r) {
+    PolygonizeOptions options;
+    options.resolution = 48;
+    Polygonization p;
+    try {
+        p = polygonize(field, options);
+    } catch (const std::invalid_argument& e) {
+        r.fail("sample", e.what());
+    }
+    if (p.mesh.vertices.empty()) r.fail("sample", "the sampled field has no surface inside its bounds");
+    const size_t stride = std::max<size_t>(1, p.mesh.vertices.size() / size_t(count));
+    std::vector<OrientedPoint> points;
+    for (size_t v = 0; v < p.mesh.vertices.size(); v += stride) points.push_back({p.mesh.vertices[v], p.mesh.normals[v]});
+    return points;
+}
+
+// The cache key: every number the fit sees, the options and the revision.
+std::string constraintHash(const ConstraintSet& c, const FitOptions& options) {
+    uint64_t h = fnv1a64(kFitRevision);
+    auto add = [&](const void* data, size_t bytes) { h = fnv1a64(std::string_view(static_cast<const char*>(data), bytes), h); };
+    for (const ValueConstraint& v : c.values) add(&v, sizeof v);
+    for (const GradientConstraint& g : c.gradients) add(&g, sizeof g);
+    add(&options.domainMargin, sizeof options.domainMargin);
+    add(&options.maxUnknowns, sizeof options.maxUnknowns);
+    return hexDigest(h);
+}
+
+std::vector<OrientedPoint> pointsFromFile(JsonObjectReader& r, const char* key, const std::string& base, Json& provenance,
+                                          bool mesh) {
+    const std::string name = r.string(key), path = resolved(name, base);
+    std::vector<OrientedPoint> points;
+    try {
+        points = mesh ? orientedPointsOfMesh(readMeshFile(path)) : readOrientedPoints(path);
+    } catch (const InputError& e) {
+        throw InputError(r.file(), r.pointerOf(key), e.what());
+    }
+    uint64_t fileHash = kFnvOffsetBasis;
+    fnv1a64File(path, fileHash);
+    provenance[key] = {{"file", name}, {"hash", hexDigest(fileHash)}, {"count", points.size()}};
+    return points;
+}
+
+}  // namespace
+
+VariationalSource readVariationalSource(JsonObjectReader& r, VariationalContext& context) {
     VariationalSource source;
-    uint64_t hash = kFnvOffsetBasis;
     Json provenance = Json::object();
 
-    // Oriented points from files and inline "normals".
+    // Oriented points from files, sampled fields and inline "normals".
     std::vector<OrientedPoint> oriented;
-    if (r.has("points")) {
-        const std::string name = r.string("points"), path = resolved(name, baseDirectory);
-        try {
-            oriented = readOrientedPoints(path);
-        } catch (const InputError& e) {
-            throw InputError(r.file(), r.pointerOf("points"), e.what());
-        }
-        uint64_t fileHash = kFnvOffsetBasis;
-        fnv1a64File(path, fileHash);
-        hash = fnv1a64(hexDigest(fileHash), hash);
-        provenance["points"] = {{"file", name}, {"hash", hexDigest(fileHash)}, {"count", oriented.size()}};
-    }
+    if (r.has("points")) oriented = pointsFromFile(r, "points", context.baseDirectory, provenance, false);
     if (r.has("mesh")) {
-        const std::string name = r.string("mesh"), path = resolved(name, baseDirectory);
-        try {
-            const std::vector<OrientedPoint> points = orientedPointsOfMesh(readMeshFile(path));
-            oriented.insert(oriented.end(), points.begin(), points.end());
-        } catch (const InputError& e) {
-            throw InputError(r.file(), r.pointerOf("mesh"), e.what());
-        }
-        uint64_t fileHash = kFnvOffsetBasis;
-        fnv1a64File(path, fileHash);
-        hash = fnv1a64(hexDigest(fileHash), hash);
-        provenance["mesh"] = {{"file", name}, {"hash", hexDigest(fileHash)}};
+        const std::vector<OrientedPoint> m = pointsFromFile(r, "mesh", context.baseDirectory, provenance, true);
+        oriented.insert(oriented.end(), m.begin(), m.end());
+    }
+    if (r.has("sample")) {
+        if (!context.compile) r.fail("sample", "sampling other fields is not available here");
+        const int count = int(r.integer("count", 200, 4, 100000));
+        const std::vector<OrientedPoint> s = samplesOf(context.compile(r.value("sample"), r.pointerOf("sample")), count, r);
+        oriented.insert(oriented.end(), s.begin(), s.end());
+        provenance["sample"] = {{"field", r.value("sample")}, {"count", s.size()}};
     }
     for (const auto& v : rows(r, "normals", 6, "[x, y, z, nx, ny, nz] rows")) {
         const Vec3 n = vec(v, 3);
@@ -121,18 +158,63 @@ VariationalSource readVariationalSource(JsonObjectReader& r, const std::string& 
     for (const auto& v : rows(r, "values", 4, "[x, y, z, value] rows")) c.values.push_back({vec(v, 0), v[3]});
     for (const auto& v : rows(r, "gradients", 6, "[x, y, z, gx, gy, gz] rows")) c.gradients.push_back({vec(v, 0), vec(v, 3)});
     source.options.domainMargin = r.has("margin") ? r.positiveNumber("margin") : source.options.domainMargin;
-    if (c.values.empty() && c.gradients.empty())
-        r.failHere("a variational field needs constraints: \"points\", \"mesh\", \"normals\", \"boundary\", "
-                   "\"interior\", \"exterior\", \"values\" or \"gradients\" (or \"fitted\")");
 
-    // The description itself (keys sorted by the JSON library) and the file
-    // contents make the key.
-    Json described = r.json();
-    for (const char* placementKey : {"transform", "bounds", "lipschitz"}) described.erase(placementKey);
-    source.hash = hexDigest(fnv1a64(described.dump() + kFitRevision, hash));
+    // Blending (Turk and O'Brien 2002, section 6): each operand keeps the
+    // constraints that lie outside every other operand; one more fit joins
+    // them without the bulge of a function sum.
+    if (const Json* blend = r.optionalValue("blend")) {
+        const std::string pointer = r.pointerOf("blend");
+        if (!blend->is_array() || blend->size() < 2)
+            throw InputError(r.file(), pointer, "expected an array of at least two variational fields");
+        std::vector<VariationalSource> parts;
+        std::vector<std::shared_ptr<const VariationalField>> fields;
+        Json partProvenance = Json::array();
+        for (size_t i = 0; i < blend->size(); ++i) {
+            const Json* description = &(*blend)[i];
+            std::string at = jsonPointerAppend(pointer, i);
+            bool named = false;
+            if (description->is_string()) {
+                const std::string name = description->get<std::string>();
+                if (std::find(context.blendStack.begin(), context.blendStack.end(), name) != context.blendStack.end())
+                    throw InputError(r.file(), at, "cycle in the blend: \"" + name + "\" blends itself");
+                if (!context.describe) throw InputError(r.file(), at, "named operands are not available here");
+                std::tie(description, at) = context.describe(name, at);
+                context.blendStack.push_back(name);
+                named = true;
+            }
+            JsonObjectReader part(*description, at, r.file());
+            if (part.string("type") != "variational")
+                part.fail("type", "blend operands must be variational fields");
+            parts.push_back(readVariationalSource(part, context));
+            part.finish();
+            if (named) context.blendStack.pop_back();
+            fields.push_back(fitCached(parts.back(), part));
+            partProvenance.push_back(parts.back().provenance);
+        }
+        auto outsideOthers = [&](size_t self, const Vec3& p) {
+            for (size_t j = 0; j < fields.size(); ++j)
+                if (j != self && !(fields[j]->value(p) > 0)) return false;
+            return true;
+        };
+        Json kept = Json::array();
+        for (size_t i = 0; i < parts.size(); ++i) {
+            size_t n = 0;
+            for (const ValueConstraint& v : parts[i].constraints.values)
+                if (outsideOthers(i, v.position)) c.values.push_back(v), ++n;
+            for (const GradientConstraint& g : parts[i].constraints.gradients)
+                if (outsideOthers(i, g.position)) c.gradients.push_back(g), ++n;
+            kept.push_back(n);
+        }
+        provenance["blend"] = {{"operands", partProvenance}, {"kept_constraints", kept}};
+    }
+
+    if (c.values.empty() && c.gradients.empty())
+        r.failHere("a variational field needs constraints: \"points\", \"mesh\", \"sample\", \"normals\", "
+                   "\"boundary\", \"interior\", \"exterior\", \"values\", \"gradients\" or \"blend\" (or \"fitted\")");
     provenance["normal_offset"] = offset;
     provenance["hermite"] = hermite;
     source.provenance = provenance;
+    source.hash = constraintHash(c, source.options);
     return source;
 }
 
@@ -207,19 +289,7 @@ std::string variationalCacheDirectory() {
     return "";
 }
 
-std::shared_ptr<const VariationalField> variationalFieldFromDescription(JsonObjectReader& r,
-                                                                         const std::string& baseDirectory) {
-    if (r.has("fitted")) {
-        const std::string path = resolved(r.string("fitted"), baseDirectory);
-        r.finish();  // a misspelt key fails before any file is read
-        try {
-            return std::make_shared<const VariationalField>(variationalFieldFromJson(parseJsonFile(path), path));
-        } catch (const InputError& e) {
-            throw InputError(r.file(), r.pointerOf("fitted"), e.what());
-        }
-    }
-    const VariationalSource source = readVariationalSource(r, baseDirectory);
-    r.finish();  // a misspelt key fails before a possibly long fit
+std::shared_ptr<const VariationalField> fitCached(const VariationalSource& source, const JsonObjectReader& r) {
     {
         std::lock_guard<std::mutex> lock(cacheMutex);
         if (auto it = memoryCache().find(source.hash); it != memoryCache().end()) return it->second;
@@ -258,6 +328,22 @@ std::shared_ptr<const VariationalField> variationalFieldFromDescription(JsonObje
     std::lock_guard<std::mutex> lock(cacheMutex);
     memoryCache().emplace(source.hash, field);
     return field;
+}
+
+std::shared_ptr<const VariationalField> variationalFieldFromDescription(JsonObjectReader& r,
+                                                                         VariationalContext& context) {
+    if (r.has("fitted")) {
+        const std::string path = resolved(r.string("fitted"), context.baseDirectory);
+        r.finish();  // a misspelt key fails before any file is read
+        try {
+            return std::make_shared<const VariationalField>(variationalFieldFromJson(parseJsonFile(path), path));
+        } catch (const InputError& e) {
+            throw InputError(r.file(), r.pointerOf("fitted"), e.what());
+        }
+    }
+    const VariationalSource source = readVariationalSource(r, context);
+    r.finish();  // a misspelt key fails before a possibly long fit
+    return fitCached(source, r);
 }
 
 }  // namespace isotrace::geometry

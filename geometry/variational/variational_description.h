@@ -3,9 +3,11 @@
 // on load and cached by content hash; or the saved output of `isotrace fit`.
 #pragma once
 
+#include <functional>
 #include <memory>
 #include <string>
 
+#include "geometry/field_program.h"
 #include "geometry/json_reader.h"
 #include "rbf_solver.h"
 
@@ -15,19 +17,33 @@ namespace isotrace::geometry {
 struct VariationalSource {
     ConstraintSet constraints;
     FitOptions options;
-    Json provenance;       ///< the description with file names resolved and their hashes
-    std::string hash;      ///< of the description and the bytes of every file it names
+    Json provenance;       ///< where the constraints came from (files with their hashes, counts)
+    std::string hash;      ///< of the constraints and fit options themselves: the cache key
 };
 
-/// Reads the constraint keys of `r` (all but "fitted"); file names are
-/// relative to `baseDirectory`. Errors are InputErrors at the key.
-VariationalSource readVariationalSource(JsonObjectReader& r, const std::string& baseDirectory);
+/// What a description may refer to beyond files.
+struct VariationalContext {
+    std::string baseDirectory;  ///< file names are relative to it
+    /// Compiles a field (a name or a description at `pointer`), for "sample".
+    std::function<FieldProgram(const Json& field, const std::string& pointer)> compile;
+    /// The description a name stands for and its pointer, for "blend"
+    /// operands; throws InputError for unknown names.
+    std::function<std::pair<const Json*, std::string>(const std::string& name, const std::string& pointer)> describe;
+    std::vector<std::string> blendStack;  ///< names being blended, to report cycles
+};
+
+/// Reads the constraint keys of `r` (all but "fitted"). Errors are
+/// InputErrors at the key.
+VariationalSource readVariationalSource(JsonObjectReader& r, VariationalContext& context);
+
+/// The fit of a source, from the in-memory cache, the disk cache, or the
+/// solver (then cached). Fit errors become InputErrors at `r`'s pointer.
+std::shared_ptr<const VariationalField> fitCached(const VariationalSource& source, const JsonObjectReader& r);
 
 /// The field of a description: loaded from "fitted", or fitted (and cached
-/// in memory and in variationalCacheDirectory()). Fit errors become
-/// InputErrors at the description; fit warnings go to stderr.
+/// in memory and in variationalCacheDirectory()). Fit warnings go to stderr.
 std::shared_ptr<const VariationalField> variationalFieldFromDescription(JsonObjectReader& r,
-                                                                         const std::string& baseDirectory);
+                                                                         VariationalContext& context);
 
 /// The saved form of a fitted field: every number round-trips exactly, so a
 /// loaded field evaluates bit-identically to the fitted one.

@@ -67,7 +67,8 @@ TEST(VariationalDescription, SavedFitLoadsBitIdentically) {
     const Json description = {{"type", "variational"}, {"points", points}};
     JsonObjectReader reader(description, "/fields/v", "scene.json");
     reader.string("type");
-    const VariationalSource source = readVariationalSource(reader, "");
+    VariationalContext context;
+    const VariationalSource source = readVariationalSource(reader, context);
     FitReport report;
     const VariationalField fitted = fitVariationalField(source.constraints, &report, source.options);
     std::ofstream(folder.file("fit.json")) << variationalFieldToJson(fitted, report, source.provenance, source.hash).dump();
@@ -134,4 +135,83 @@ TEST(VariationalDescription, BadInputNamesThePlace) {
         "domain": [[-1, -1, -1], [1, 1, 1]], "constant": 0, "linear": [0, 0, 0], "centers": [[0, 0, 0]],
         "weights": [1, 2], "gradient_centers": [], "gradient_weights": []})");
     expectError(R"({"v": {"type": "variational", "fitted": ")" + wrongCount + R"("}})", "/weights", "2 weights for 1 centers");
+}
+
+namespace {
+// Normal constraints of a sphere as a "normals" array.
+Json sphereNormals(const Vec3& center, double radius, int count) {
+    Json rows = Json::array();
+    for (int i = 0; i < count; ++i) {
+        const double y = 1.0 - 2.0 * (i + 0.5) / count, r = std::sqrt(1 - y * y), phi = 2.399963229728653 * i;
+        const Vec3 n(r * std::cos(phi), y, r * std::sin(phi));
+        const Vec3 p = center + radius * n;
+        rows.push_back({p.x(), p.y(), p.z(), n.x(), n.y(), n.z()});
+    }
+    return rows;
+}
+}  // namespace
+
+TEST(VariationalDescription, BlendKeepsTheConstraintsOutsideTheOtherOperands) {
+    TemporaryFolder folder;
+    CacheInFolder cache(folder);
+    Json fields = {{"a", {{"type", "variational"}, {"normals", sphereNormals(Vec3(-0.5, 0, 0), 1.0, 120)}}},
+                   {"b", {{"type", "variational"}, {"normals", sphereNormals(Vec3(0.5, 0, 0), 1.0, 120)}}},
+                   {"v", {{"type", "variational"}, {"blend", {"a", "b"}}}}};
+    const FieldLibrary library(fields, "/fields", folder.file("scene.json"));
+    const FieldProgram a = library.compile("a"), b = library.compile("b"), blend = library.compile("v");
+
+    // Each kept constraint lies outside the other sphere and is interpolated;
+    // a dropped one (well inside the other) is inside the blend.
+    int kept = 0, dropped = 0;
+    for (const auto& [own, other] : {std::pair{&fields["a"], &b}, std::pair{&fields["b"], &a}})
+        for (const Json& row : (*own)["normals"]) {
+            const Vec3 p(row[0], row[1], row[2]);
+            if (other->value(p) > 0) {
+                EXPECT_NEAR(blend.value(p), 0.0, 1e-8);
+                ++kept;
+            } else {
+                // Near the crease the blend may round off a little; well
+                // inside the other sphere it must be inside.
+                if (other->value(p) < -0.05) EXPECT_LT(blend.value(p), 0.0);
+                ++dropped;
+            }
+        }
+    EXPECT_GT(kept, 150);
+    EXPECT_GT(dropped, 20);
+    // No bulge: where the spheres meet, the blend stays near their union
+    // (a function-sum blend swells there by a large fraction of the radius).
+    double lo = 0.0, hi = 2.0;
+    for (int i = 0; i < 60; ++i) (blend.value(Vec3(0, 0.5 * (lo + hi), 0)) < 0 ? lo : hi) = 0.5 * (lo + hi);
+    const double unionCrossing = std::sqrt(1.0 - 0.25);  // the spheres' circle of intersection
+    EXPECT_GT(lo, unionCrossing - 0.05);
+    EXPECT_LT(lo, unionCrossing + 0.15);
+
+    fields["v"]["blend"] = {"a", "v"};
+    const std::string e = compileError(fields.dump());
+    EXPECT_NE(e.find("cycle in the blend"), std::string::npos) << e;
+    fields["v"]["blend"] = {"a", "ball"};
+    EXPECT_NE(compileError(fields.dump()).find("unknown field \"ball\""), std::string::npos);
+    fields["ball"] = {{"type", "sphere"}, {"radius", 1}};
+    EXPECT_NE(compileError(fields.dump()).find("blend operands must be variational"), std::string::npos);
+}
+
+TEST(VariationalDescription, SampledFromAnotherField) {
+    TemporaryFolder folder;
+    CacheInFolder cache(folder);
+    const FieldLibrary library(Json::parse(R"({"ring": {"type": "torus", "major": 1, "minor": 0.35},
+        "v": {"type": "variational", "sample": "ring", "count": 300}})"), "/fields", folder.file("scene.json"));
+    const FieldProgram torus = library.compile("ring"), v = library.compile("v");
+    // The fit follows the torus it was sampled from, hole included.
+    std::mt19937_64 rng(2);
+    std::uniform_real_distribution<double> u(-1.5, 1.5);
+    int agree = 0, total = 0;
+    for (int i = 0; i < 2000; ++i) {
+        const Vec3 p(u(rng), u(rng) * 0.4, u(rng));
+        const double t = torus.value(p);
+        if (std::abs(t) < 0.05) continue;  // near the surface the two may differ a little
+        ++total;
+        agree += (t < 0) == (v.value(p) < 0);
+    }
+    EXPECT_GE(agree, total - total / 100) << agree << " of " << total;
+    EXPECT_GT(v.value(Vec3::Zero()), 0.0) << "the hole stays open";
 }
