@@ -35,6 +35,16 @@ Box3 testRegion(const FieldProgram& f) {
 
 class EveryField : public ::testing::TestWithParam<CatalogEntry> {};
 
+Vec3 centralDifference(const FieldProgram& field, const Vec3& p, double h) {
+    Vec3 fd;
+    for (int k = 0; k < 3; ++k) {
+        Vec3 d = Vec3::Zero();
+        d[k] = h;
+        fd[k] = (field.value(p + d) - field.value(p - d)) / (2 * h);
+    }
+    return fd;
+}
+
 }  // namespace
 
 // For random boxes and random point pairs inside them, f stays inside the
@@ -67,13 +77,7 @@ TEST_P(EveryField, GradientMatchesFiniteDifferences) {
         const Vec3 p = randomPointIn(region, rng);
         Vec3 g;
         field.valueAndGradient(p, g);
-        const double h = 1e-6;
-        Vec3 fd;
-        for (int k = 0; k < 3; ++k) {
-            Vec3 d = Vec3::Zero();
-            d[k] = h;
-            fd[k] = (field.value(p + d) - field.value(p - d)) / (2 * h);
-        }
+        const Vec3 fd = centralDifference(field, p, 1e-6);
         ++total;
         if ((fd - g).norm() <= 1e-4 * std::max(1.0, g.norm())) ++agreeing;
     }
@@ -102,13 +106,7 @@ TEST_P(EveryField, GradientPointsOutwardOnTheSurface) {
         }
         Vec3 g;
         field.valueAndGradient(a, g);
-        const double h = 1e-5;
-        Vec3 fd;
-        for (int k = 0; k < 3; ++k) {
-            Vec3 d = Vec3::Zero();
-            d[k] = h;
-            fd[k] = field.value(a + d) - field.value(a - d);
-        }
+        const Vec3 fd = centralDifference(field, a, 1e-5);
         ++roots;
         if (g.dot(fd) < 0) ++inward;
     }

@@ -39,19 +39,21 @@ int shapePixels(const isotrace::Image& sheet, int i) {
     return n;
 }
 
-std::string sizeArguments() {
-    return " --panel-width " + std::to_string(kPanelWidth) + " --panel-height " + std::to_string(kPanelHeight) +
-           " --spp 1 --quiet";
+// The two-spheres sheet at test size, with extra arguments, read back.
+isotrace::Image previewSheet(const TemporaryFolder& folder, const std::string& arguments) {
+    const std::string scene = folder.write("s.json", kTwoSpheres), sheet = folder.file("sheet.png");
+    const auto r = runIsotrace("preview " + scene + " --field both -o " + sheet + arguments + " --panel-width " +
+                               std::to_string(kPanelWidth) + " --panel-height " + std::to_string(kPanelHeight) +
+                               " --spp 1 --quiet");
+    EXPECT_EQ(r.exitCode, 0) << r.output;
+    return isotrace::readImage(sheet);
 }
 
 }  // namespace
 
 TEST(CsgPreview, SheetShowsOperandsAndTheirCombinations) {
     TemporaryFolder folder;
-    const std::string scene = folder.write("s.json", kTwoSpheres), sheet = folder.file("sheet.png");
-    const auto r = runIsotrace("preview " + scene + " --field both -o " + sheet + sizeArguments());
-    ASSERT_EQ(r.exitCode, 0) << r.output;
-    const isotrace::Image image = isotrace::readImage(sheet);
+    const isotrace::Image image = previewSheet(folder, "");
     EXPECT_EQ(image.width, 3 * kPanelWidth + 4 * kGap);
     EXPECT_EQ(image.height, 2 * (kPanelHeight + kLabel) + 3 * kGap);
 
@@ -78,10 +80,7 @@ TEST(CsgPreview, SheetShowsOperandsAndTheirCombinations) {
 
 TEST(CsgPreview, SectionColoursInsideAndOutside) {
     TemporaryFolder folder;
-    const std::string scene = folder.write("s.json", kTwoSpheres), sheet = folder.file("cut.png");
-    const auto r = runIsotrace("preview " + scene + " --field both --section z=0 -o " + sheet + sizeArguments());
-    ASSERT_EQ(r.exitCode, 0) << r.output;
-    const isotrace::Image image = isotrace::readImage(sheet);
+    const isotrace::Image image = previewSheet(folder, " --section z=0");
     // The frame is symmetric about the origin, which is inside both spheres:
     // the centre pixel of each panel is inside (blue) for A, B, the union and
     // the intersection and outside (orange) for both differences.
