@@ -129,6 +129,27 @@ double FieldProgram::value(const Vec3& p) const {
     return slot[code_.size() - 1];
 }
 
+double FieldProgram::valueAndSafeDistance(const Vec3& p, double& safeDistance) const {
+    safeDistance = 0.0;
+    if (code_.size() != 1) return value(p);
+    const FieldLeaf& leaf = leaves_[code_[0].a];
+    return leaf.placement.valueScale * std::visit(
+        [&](const auto& s) {
+            const Vec3 q = leaf.placement.leafFromWorld(p);
+            if constexpr (requires(double& d) { s.valueAndSafeDistance(q, d); }) {
+                double leafDistance = 0.0;
+                const double v = s.valueAndSafeDistance(q, leafDistance);
+                // |A dp| <= ||A|| |dp|: a world step of d / ||A|| moves at most d in the leaf.
+                const double stretch = leaf.placement.gradientScale / leaf.placement.valueScale;
+                safeDistance = leafDistance / std::max(stretch, 1e-300);
+                return v;
+            } else {
+                return s.value(q);
+            }
+        },
+        leaf.shape);
+}
+
 double FieldProgram::valueAndGradient(const Vec3& p, Vec3& gradient) const {
     ValueAndGradient* slot = scratch<ValueAndGradient>(code_.size());
     for (size_t i = 0; i < code_.size(); ++i) {

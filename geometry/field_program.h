@@ -88,6 +88,9 @@ public:
 
     double value(const Vec3& p) const;
     double valueAndGradient(const Vec3& p, Vec3& gradient) const;
+    /// The value at p and a radius around p free of zeros, when the program
+    /// is a single leaf that can say (variational fields); else 0.
+    double valueAndSafeDistance(const Vec3& p, double& safeDistance) const;
     BoxEstimate estimate(const Box3& box) const;
     /// The range alone (cheaper: no gradient bounds).
     Interval range(const Box3& box) const;

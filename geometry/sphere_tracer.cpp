@@ -62,7 +62,8 @@ TraceResult sphereTrace(const FieldProgram& field, double lipschitz, const Vec3&
     const uint64_t cost = field.evaluationCost();
 
     double t = tStart;
-    double f = field.value(origin + t * direction);
+    double safe = 0.0;  // a radius free of zeros, from fields that can say
+    double f = field.valueAndSafeDistance(origin + t * direction, safe);
     int steps = 1;
     auto finish = [&](bool hit, double tHit) {
         result.hit = hit;
@@ -74,7 +75,7 @@ TraceResult sphereTrace(const FieldProgram& field, double lipschitz, const Vec3&
     if (f == 0.0) return finish(true, t);
 
     while (steps < settings.maxSteps) {
-        double step = std::abs(f) * stepScale;
+        double step = std::max(std::abs(f) * stepScale, safe / speed);
         const bool forced = step < minStep;  // a forced step may skip a sliver thinner than epsilon
         if (forced) step = minStep;
         double tNext = t + step;
@@ -82,7 +83,8 @@ TraceResult sphereTrace(const FieldProgram& field, double lipschitz, const Vec3&
             if (!forced) return finish(false, 0.0);  // the safe step proves no root before tEnd
             tNext = tEnd;
         }
-        const double fNext = field.value(origin + tNext * direction);
+        double safeNext = 0.0;
+        const double fNext = field.valueAndSafeDistance(origin + tNext * direction, safeNext);
         ++steps;
         if (fNext == 0.0) return finish(true, tNext);
         if (differentSigns(f, fNext)) {
@@ -92,6 +94,7 @@ TraceResult sphereTrace(const FieldProgram& field, double lipschitz, const Vec3&
         if (tNext >= tEnd) return finish(false, 0.0);
         t = tNext;
         f = fNext;
+        safe = safeNext;
     }
     // Out of steps (a ray grazing the surface for a long way): settle the
     // rest of the segment with the robust method rather than guess.

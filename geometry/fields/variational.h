@@ -13,6 +13,7 @@ struct VariationalLeafField {
 
     double value(const Vec3& p) const { return field->value(p); }
     double valueAndGradient(const Vec3& p, Vec3& gradient) const { return field->valueAndGradient(p, gradient); }
+    double valueAndSafeDistance(const Vec3& p, double& safe) const { return field->valueAndSafeDistance(p, safe); }
     Interval range(const Box3& box) const { return field->range(box); }
     double lipschitz(const Box3& box) const { return field->lipschitz(box); }
     Box3 bounds() const { return field->bounds(); }

@@ -1,6 +1,7 @@
 #include "variational_field.h"
 
 #include <cmath>
+#include <limits>
 
 namespace isotrace::geometry {
 
@@ -85,6 +86,29 @@ BoxBounds boxBounds(const VariationalField& f, const Box3& box) {
 }
 
 }  // namespace
+
+double VariationalField::valueAndSafeDistance(const Vec3& x, double& safeDistance) const {
+    // A box of zero size around x gives exact value, gradient and Hessian.
+    const BoxBounds b = boxBounds(*this, Box3(x, x));
+    const double v = std::abs(b.value), g = b.gradientNorm, h = b.hessianAtCenter + b.hermiteHessian,
+                 t = b.thirdDerivative;
+    // |f(y)| >= |f(x)| - g s - h s^2 / 2 - t s^3 / 6 for |y - x| <= s: the
+    // root of the right side is a safe radius. Each term alone reaching |f|
+    // bounds the root from above; bisect below the smallest.
+    auto margin = [&](double s) { return v - g * s - 0.5 * h * s * s - t * s * s * s / 6.0; };
+    double hi = std::numeric_limits<double>::infinity();
+    if (g > 0) hi = std::min(hi, v / g);
+    if (h > 0) hi = std::min(hi, std::sqrt(2 * v / h));
+    if (t > 0) hi = std::min(hi, std::cbrt(6 * v / t));
+    double lo = 0.0;
+    if (std::isfinite(hi))
+        for (int i = 0; i < 40; ++i) {
+            const double mid = 0.5 * (lo + hi);
+            (margin(mid) > 0 ? lo : hi) = mid;
+        }
+    safeDistance = lo;
+    return b.value;
+}
 
 Interval VariationalField::range(const Box3& box) const {
     const BoxBounds b = boxBounds(*this, box);

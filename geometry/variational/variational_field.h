@@ -31,6 +31,11 @@ struct VariationalField {
     /// |D^3 r^3| <= 12 (per unit weight).
     Interval range(const Box3& box) const;
     double lipschitz(const Box3& box) const;
+    /// The value at x and a radius around x free of zeros of f, from the
+    /// exact value, gradient and Hessian at x and the third-derivative
+    /// bound: far longer steps than a box's Lipschitz bound allows, because
+    /// the sums at x keep their cancellation.
+    double valueAndSafeDistance(const Vec3& x, double& safeDistance) const;
     Box3 bounds() const { return domain; }
     size_t termCount() const { return centers.size() + 3 * gradientCenters.size(); }
     size_t constraintCount() const { return centers.size() + gradientCenters.size(); }

@@ -166,6 +166,32 @@ TEST(VariationalFit, RangeAndLipschitzBoundsAreSound) {
     }
 }
 
+// Sphere tracing steps by the safe distance: no point within it may have
+// the other sign.
+TEST(VariationalFit, SafeDistanceHoldsNoZero) {
+    const VariationalField f = fitVariationalField(constraintsFromOrientedPoints(spherePoints(60), 0.05, false));
+    const VariationalField h = fitVariationalField(constraintsFromOrientedPoints(spherePoints(30), 0.0, true));
+    std::mt19937_64 rng(8);
+    std::uniform_real_distribution<double> u(-1.6, 1.6);
+    std::normal_distribution<double> g;
+    for (const VariationalField* field : {&f, &h}) {
+        int useful = 0;
+        for (int trial = 0; trial < 300; ++trial) {
+            const Vec3 x(u(rng), u(rng), u(rng));
+            double safe = 0;
+            const double fx = field->valueAndSafeDistance(x, safe);
+            ASSERT_EQ(fx, field->value(x));
+            ASSERT_GE(safe, 0.0);
+            useful += safe > 0.01;
+            for (int i = 0; i < 50; ++i) {
+                const Vec3 y = x + safe * std::cbrt(std::abs(u(rng)) / 1.6) * Vec3(g(rng), g(rng), g(rng)).normalized();
+                ASSERT_EQ(field->value(y) > 0, fx > 0) << "trial " << trial << " safe " << safe;
+            }
+        }
+        EXPECT_GT(useful, 150) << "the radius is not uselessly small";
+    }
+}
+
 TEST(VariationalFit, OrientedPointSetFromSharedData) {
     const std::vector<OrientedPoint> points = readOrientedPoints(isotrace::testing::testDataFile("sphere926.pwn"));
     ASSERT_EQ(points.size(), 926u);
