@@ -36,7 +36,7 @@ int main(int argc, char** argv) {
         overrides.samplesPerPixel = spp;
         const auto loaded = loadSceneDescription(scene(objects[i]), scenes + "/bench.json", overrides);
         times[i] = bench::medianSeconds(3, [&] { render(*loaded, {.threads = 2, .seed = 1, .quiet = true}); });
-        std::printf("  %-22s %.3f s\n", names[i], times[i]);
+        std::printf("  %-22s %.4f s\n", names[i], times[i]);
     }
     std::printf("  implicit / triangles: %.0fx\n", times[1] / times[0]);
     return 0;

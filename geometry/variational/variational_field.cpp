@@ -6,10 +6,12 @@
 namespace isotrace::geometry {
 
 double VariationalField::value(const Vec3& x) const {
+    // The same arithmetic as taylorAt, so both give the same bits.
     double sum = constant + linear.dot(x);
     for (size_t i = 0; i < centers.size(); ++i) {
-        const double r = (x - centers[i]).norm();
-        sum += weights[i] * r * r * r;
+        const double dx = x.x() - centers[i].x(), dy = x.y() - centers[i].y(), dz = x.z() - centers[i].z();
+        const double r2 = dx * dx + dy * dy + dz * dz;
+        sum += weights[i] * std::sqrt(r2) * r2;
     }
     // grad |d|^3 = 3 |d| d.
     for (size_t k = 0; k < gradientCenters.size(); ++k) {
@@ -24,8 +26,8 @@ double VariationalField::valueAndGradient(const Vec3& x, Vec3& gradient) const {
     Vec3 g = linear;
     for (size_t i = 0; i < centers.size(); ++i) {
         const Vec3 d = x - centers[i];
-        const double r = d.norm();
-        sum += weights[i] * r * r * r;
+        const double r2 = d.x() * d.x() + d.y() * d.y() + d.z() * d.z(), r = std::sqrt(r2);
+        sum += weights[i] * r * r2;
         g += (3.0 * weights[i] * r) * d;
     }
     // Hessian of |d|^3: 3 (|d| I + d d^T / |d|), zero at d = 0.
@@ -57,30 +59,57 @@ struct BoxBounds {
     double hermiteHessian;   ///< bound on the gradient terms' ||D^2|| anywhere
 };
 
-BoxBounds boxBounds(const VariationalField& f, const Box3& box) {
-    const Vec3 x0 = box.center();
-    BoxBounds b{f.constant + f.linear.dot(x0), 0.0, 0.0, 0.0, 0.0, 0.0};
-    Vec3 g = f.linear;
-    Mat3 hessian = Mat3::Zero();
-    for (size_t i = 0; i < f.centers.size(); ++i) {
-        const Vec3 d = x0 - f.centers[i];
-        const double r = d.norm(), w = f.weights[i];
-        b.value += w * r * r * r;
-        g += (3.0 * w * r) * d;
-        if (r > 0) hessian += (3.0 * w) * (r * Mat3::Identity() + d * d.transpose() / r);
-        b.hessianAnywhere += 6.0 * std::abs(w) * box.distanceRange(f.centers[i]).hi;
-        b.thirdDerivative += 12.0 * std::abs(w);
+// Value, gradient and the value terms' Hessian at x, with the bounds that
+// do not depend on a box. Scalar accumulators keep the loop free of
+// temporaries: it runs at every sphere-tracing step.
+BoxBounds taylorAt(const VariationalField& f, const Vec3& x) {
+    BoxBounds b{f.constant + f.linear.dot(x), 0.0, 0.0, 0.0, 0.0, 0.0};
+    double gx = f.linear.x(), gy = f.linear.y(), gz = f.linear.z();
+    double hxx = 0, hyy = 0, hzz = 0, hxy = 0, hxz = 0, hyz = 0, weightSum = 0;
+    const size_t n = f.centers.size();
+    for (size_t i = 0; i < n; ++i) {
+        const double dx = x.x() - f.centers[i].x(), dy = x.y() - f.centers[i].y(), dz = x.z() - f.centers[i].z();
+        const double w = f.weights[i];
+        const double r2 = dx * dx + dy * dy + dz * dz, r = std::sqrt(r2);
+        const double wr3 = 3.0 * w * r;
+        b.value += w * r * r2;
+        gx += wr3 * dx;
+        gy += wr3 * dy;
+        gz += wr3 * dz;
+        // 3 w (r I + d d^T / r); the second part vanishes with r.
+        const double q = r > 0 ? 3.0 * w / r : 0.0;
+        hxx += wr3 + q * dx * dx;
+        hyy += wr3 + q * dy * dy;
+        hzz += wr3 + q * dz * dz;
+        hxy += q * dx * dy;
+        hxz += q * dx * dz;
+        hyz += q * dy * dz;
+        weightSum += std::abs(w);
     }
     for (size_t k = 0; k < f.gradientCenters.size(); ++k) {
-        const Vec3 d = x0 - f.gradientCenters[k];
+        const Vec3 d = x - f.gradientCenters[k];
         const Vec3& w = f.gradientWeights[k];
         const double r = d.norm();
         b.value -= 3.0 * r * w.dot(d);
-        if (r > 0) g -= 3.0 * (r * w + (d.dot(w) / r) * d);
+        if (r > 0) {
+            const Vec3 g = 3.0 * (r * w + (d.dot(w) / r) * d);
+            gx -= g.x();
+            gy -= g.y();
+            gz -= g.z();
+        }
         b.hermiteHessian += 12.0 * w.norm();
     }
-    b.gradientNorm = g.norm();
-    b.hessianAtCenter = hessian.norm();
+    b.gradientNorm = std::sqrt(gx * gx + gy * gy + gz * gz);
+    // Frobenius norm: an upper bound of the spectral norm.
+    b.hessianAtCenter = std::sqrt(hxx * hxx + hyy * hyy + hzz * hzz + 2 * (hxy * hxy + hxz * hxz + hyz * hyz));
+    b.thirdDerivative = 12.0 * weightSum;
+    return b;
+}
+
+BoxBounds boxBounds(const VariationalField& f, const Box3& box) {
+    BoxBounds b = taylorAt(f, box.center());
+    for (size_t i = 0; i < f.centers.size(); ++i)
+        b.hessianAnywhere += 6.0 * std::abs(f.weights[i]) * box.distanceRange(f.centers[i]).hi;
     b.hessianAnywhere += b.hermiteHessian;
     return b;
 }
@@ -88,8 +117,7 @@ BoxBounds boxBounds(const VariationalField& f, const Box3& box) {
 }  // namespace
 
 double VariationalField::valueAndSafeDistance(const Vec3& x, double& safeDistance) const {
-    // A box of zero size around x gives exact value, gradient and Hessian.
-    const BoxBounds b = boxBounds(*this, Box3(x, x));
+    const BoxBounds b = taylorAt(*this, x);
     const double v = std::abs(b.value), g = b.gradientNorm, h = b.hessianAtCenter + b.hermiteHessian,
                  t = b.thirdDerivative;
     // |f(y)| >= |f(x)| - g s - h s^2 / 2 - t s^3 / 6 for |y - x| <= s: the
