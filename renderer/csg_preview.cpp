@@ -215,34 +215,27 @@ std::string defaultPreviewPath(const std::string& scene, const std::string& fiel
 void runPreview(const PreviewCommand& c) {
     const auto start = std::chrono::steady_clock::now();
     const std::string output = c.output.empty() ? defaultPreviewPath(c.scene, c.field, !c.section.empty()) : c.output;
-    const std::filesystem::path folder = std::filesystem::absolute(output).parent_path();
-    if (!std::filesystem::is_directory(folder))
-        throw InputError(output, "", "the output folder " + folder.string() + " does not exist");
+    checkOutputFolder(output);
 
     const Json root = geometry::parseJsonFile(c.scene);
     if (!root.is_object() || !root.contains("fields") || !root["fields"].is_object())
         throw InputError(c.scene, "/fields", "the scene has no \"fields\" object");
     const Json& fields = root["fields"];
     const geometry::FieldLibrary library(fields, "/fields", c.scene);
-    if (!library.contains(c.field)) {
-        std::string message = "unknown field \"" + c.field + "\"";
-        if (auto near = geometry::nearestName(c.field, library.names())) message += " (did you mean \"" + *near + "\"?)";
-        throw InputError(c.scene, "/fields", message);
-    }
+    library.compile(c.field);  // unknown names (with a suggestion) and errors in the node come first
     const std::string pointer = geometry::jsonPointerAppend("/fields", c.field);
-    library.compile(c.field);  // reports any error in the node itself first
     const std::vector<Panel> panels = panelsOf(fields[c.field], c.scene, pointer);
 
     // One frame for all panels: the operands' bounds together (an unbounded
     // operand, a plane, is cut to the others').
-    std::vector<geometry::FieldProgram> programs;
     Box3 frame;
-    for (const Panel& p : panels) programs.push_back(library.compileDescription(p.description, pointer));
-    for (int i = 0; i < 2; ++i)
-        if (programs[i].bounds().isFinite()) {
-            frame.extend(programs[i].bounds().lower);
-            frame.extend(programs[i].bounds().upper);
+    for (int i = 0; i < 2; ++i) {
+        const Box3 bounds = library.compileDescription(panels[i].description, pointer).bounds();
+        if (bounds.isFinite()) {
+            frame.extend(bounds.lower);
+            frame.extend(bounds.upper);
         }
+    }
     std::vector<std::string> warnings;
     if (frame.isEmpty()) {
         frame = Box3::around(Vec3::Zero(), 1.0);
@@ -263,7 +256,8 @@ void runPreview(const PreviewCommand& c) {
     for (size_t i = 0; i < panels.size(); ++i) {
         Image image;
         if (section.first >= 0) {
-            image = sectionImage(programs[i], frame, section.first, section.second, c.panelWidth, c.panelHeight);
+            image = sectionImage(library.compileDescription(panels[i].description, pointer), frame, section.first,
+                                 section.second, c.panelWidth, c.panelHeight);
         } else {
             const Json scene = panelScene(fields, panels[i].description, frame, c);
             const std::unique_ptr<Scene> loaded = loadSceneDescription(scene, c.scene);

@@ -2,11 +2,11 @@
 
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
-#include <unistd.h>
 
+#include "geometry/atomic_file.h"
 #include "geometry/input_error.h"
 #include "geometry/variational/variational_description.h"
+#include "image_output.h"
 
 namespace isotrace {
 
@@ -14,9 +14,7 @@ using geometry::InputError;
 using geometry::Json;
 
 void runFit(const FitCommand& c) {
-    const std::filesystem::path folder = std::filesystem::absolute(c.output).parent_path();
-    if (!std::filesystem::is_directory(folder))
-        throw InputError(c.output, "", "the output folder " + folder.string() + " does not exist");
+    checkOutputFolder(c.output);
     // The command line becomes a description, so files and keys are read
     // exactly as in scene files.
     const std::string extension = std::filesystem::path(c.input).extension().string();
@@ -42,16 +40,11 @@ void runFit(const FitCommand& c) {
     provenance[points ? "points" : "mesh"]["file"] = c.input;
     const std::string text = geometry::variationalFieldToJson(field, report, provenance, source.hash).dump() + "\n";
 
-    const std::string temporary = c.output + ".partial-" + std::to_string(getpid());
-    {
-        std::ofstream out(temporary, std::ios::binary);
-        out << text;
-        if (!out) {
-            std::filesystem::remove(temporary);
-            throw InputError(c.output, "", "cannot write the fitted field");
-        }
+    try {
+        geometry::writeFileAtomically(c.output, text);
+    } catch (const std::runtime_error& e) {
+        throw InputError(c.output, "", e.what());
     }
-    std::filesystem::rename(temporary, c.output);
     for (const std::string& w : report.warnings) std::fprintf(stderr, "warning: %s: %s\n", c.input.c_str(), w.c_str());
     if (!c.quiet)
         std::fprintf(stderr, "fitted %zu value and %zu gradient constraints (%zu unknowns) in %.3fs; max residual %.3g, "

@@ -7,6 +7,8 @@
 #include <stdexcept>
 #include <unistd.h>
 
+#include "geometry/input_error.h"
+
 namespace isotrace {
 
 namespace {
@@ -78,6 +80,12 @@ void writePreviewPng(const std::string& path, const Image& image, double exposur
     }
     OIIO::ImageSpec spec(image.width, image.height, 3, OIIO::TypeDesc::UINT8);
     writeBuffer(path, spec, OIIO::TypeDesc::UINT8, bytes.data());
+}
+
+void checkOutputFolder(const std::string& path) {
+    const std::filesystem::path parent = std::filesystem::absolute(path).parent_path();
+    if (!std::filesystem::is_directory(parent))
+        throw geometry::InputError(path, "", "the output folder " + parent.string() + " does not exist");
 }
 
 std::string previewPathFor(const std::string& exrPath) {

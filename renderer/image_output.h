@@ -22,6 +22,9 @@ void writeImage(const std::string& path, const Image& image, const ImageMetadata
 void writePreviewPng(const std::string& path, const Image& image, double exposure);
 /// The preview's name next to an output: out.exr -> out.png.
 std::string previewPathFor(const std::string& exrPath);
+/// Throws InputError naming `path` when the folder it would be written to
+/// does not exist (checked before any work, so nothing is half done).
+void checkOutputFolder(const std::string& path);
 /// Reads an image as RGB float (first three channels), with its window in
 /// the full frame; throws std::runtime_error naming the path. `metadata`,
 /// when given, receives the string attributes.

@@ -9,6 +9,7 @@
 #include <mutex>
 #include <unistd.h>
 
+#include "geometry/atomic_file.h"
 #include "geometry/content_hash.h"
 #include "geometry/mesh_file.h"
 #include "geometry/polygonizer.h"
@@ -58,19 +59,6 @@ std::mutex cacheMutex;
 std::map<std::string, std::shared_ptr<const VariationalField>>& memoryCache() {
     static std::map<std::string, std::shared_ptr<const VariationalField>> cache;
     return cache;
-}
-
-void writeAtomically(const std::string& path, const std::string& text) {
-    const std::string temporary = path + ".partial-" + std::to_string(getpid());
-    {
-        std::ofstream out(temporary, std::ios::binary);
-        out << text;
-        if (!out) {
-            std::filesystem::remove(temporary);
-            throw std::runtime_error("cannot write " + path);
-        }
-    }
-    std::filesystem::rename(temporary, path);
 }
 
 }  // namespace
@@ -320,7 +308,7 @@ std::shared_ptr<const VariationalField> fitCached(const VariationalSource& sourc
             // The cache is an optimisation: failing to write it is not an error.
             try {
                 std::filesystem::create_directories(cached.parent_path());
-                writeAtomically(cached.string(), variationalFieldToJson(*field, report, source.provenance, source.hash).dump());
+                writeFileAtomically(cached.string(), variationalFieldToJson(*field, report, source.provenance, source.hash).dump());
             } catch (const std::exception&) {
             }
         }
