@@ -124,6 +124,15 @@ TEST(VariationalDescription, BadInputNamesThePlace) {
     expectError(R"({"v": {"type": "variational", "mesh": "missing.off"}})", "/fields/v/mesh", "not found");
     expectError(R"({"v": {"type": "variational", "fitted": "missing.json"}})", "/fields/v/fitted", "missing.json");
 
+    const std::string tetrahedron = R"("boundary": [[1, 1, 1], [1, -1, -1], [-1, 1, -1], [-1, -1, 1]], "interior": [[0, 0, 0]])";
+    expectError(R"({"v": {"type": "variational", )" + tetrahedron + R"(, "margin": -1}})", "/fields/v/margin", "");
+    expectError(R"({"v": {"type": "variational", )" + tetrahedron + R"(, "hermite": "yes"}})", "/fields/v/hermite", "");
+    expectError(R"({"v": {"type": "variational", "normals": [[0, 0, 0, 0, 0, 0]]}})", "/fields/v/normals", "zero vector");
+    expectError(R"({"v": {"type": "variational", "sample": "nowhere"}})", "/fields/v/sample", "unknown field \"nowhere\"");
+    expectError(R"({"ball": {"type": "sphere", "radius": 1}, "v": {"type": "variational", "sample": "ball", "count": 2}})",
+                "/fields/v/count", "");
+    expectError(R"({"v": {"type": "variational", "blend": "a"}})", "/fields/v/blend", "at least two variational fields");
+
     const std::string badPoints = folder.write("bad.xyz", "0 0 0 0 0 1\n1 2 3 4 5\n");
     expectError(R"({"v": {"type": "variational", "points": ")" + badPoints + R"("}})", "line 2", "six numbers");
     const std::string zeroNormal = folder.write("zero.xyz", "0 0 0 0 0 0\n");

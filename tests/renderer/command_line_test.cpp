@@ -429,6 +429,7 @@ TEST(CommandLine, FitWritesAFieldScenesLoadAndRefusesBadInput) {
         {"fit " + flat + " -o " + out, "lie in one plane"},
         {"fit " + flat + " -o " + folder.file("no/such/folder.json"), "does not exist"},
         {"fit " + flat + " -o " + out + " --normal-offset -1", "normal-offset"},
+        {"fit " + flat + " -o " + out + " --margin 0", "margin"},
     };
     for (const Case& c : cases) {
         const auto r = runIsotrace(c.arguments);

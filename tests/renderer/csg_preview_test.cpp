@@ -104,6 +104,8 @@ TEST(CsgPreview, BadInputIsRefusedWithoutWritingAFile) {
         {"--field both --section w", "expected x, y or z"},
         {"--field both --section z=abc", "not a finite number"},
         {"--field both --panel-width 0", "panel-width"},
+        {"--field both --panel-height 100000", "panel-height"},
+        {"--field both --spp 0", "spp"},
     };
     for (const Case& c : cases) {
         const auto r = runIsotrace("preview " + scene + " " + c.arguments + " -o " + sheet);
