@@ -20,27 +20,25 @@ void boundsCallback(const RTCBoundsFunctionArguments* args) {
     args->bounds_o->upper_z = std::nextafter(float(box.upper.z()), INFINITY);
 }
 
-// Marches one cell; on a hit in (tnear, tfar) fills `hit` (object-space
-// normal = field gradient) and returns its t.
-bool marchCell(const RTCRay& ray, const ImplicitSurface& surface, unsigned primID, double& tHit) {
-    if ((ray.mask & surface.rayMask()) == 0) return false;
+// Marches one cell for a hit in (tnear, tfar).
+TraceResult marchCell(const RTCRay& ray, const ImplicitSurface& surface, unsigned primID) {
+    if ((ray.mask & surface.rayMask()) == 0) return {};
     const Vec3 origin(ray.org_x, ray.org_y, ray.org_z);
     const Vec3 direction(ray.dir_x, ray.dir_y, ray.dir_z);
-    const TraceResult r = surface.intersectCell(primID, origin, direction, ray.tnear, ray.tfar);
-    if (!r.hit) return false;
-    tHit = r.t;
-    return true;
+    return surface.intersectCell(primID, origin, direction, ray.tnear, ray.tfar);
 }
 
 // The candidate hit at t: object-space normal = field gradient, ids, and
 // the instance ids, which Embree leaves to user geometry under instances.
 // Intersect and occluded arguments carry the same fields.
 template <class Arguments>
-RTCHit candidateHit(const RTCRay& ray, const ImplicitSurface& surface, const Arguments* args, double t) {
+RTCHit candidateHit(const RTCRay& ray, const ImplicitSurface& surface, const Arguments* args, const TraceResult& r) {
     RTCHit hit{};
-    const Vec3 p = Vec3(ray.org_x, ray.org_y, ray.org_z) + t * Vec3(ray.dir_x, ray.dir_y, ray.dir_z);
-    Vec3 g;
-    surface.cellProgram(surface.cells()[args->primID]).valueAndGradient(p, g);
+    Vec3 g = r.gradient;
+    if (!r.gradientKnown) {
+        const Vec3 p = Vec3(ray.org_x, ray.org_y, ray.org_z) + r.t * Vec3(ray.dir_x, ray.dir_y, ray.dir_z);
+        surface.cellProgram(surface.cells()[args->primID]).valueAndGradient(p, g);
+    }
     hit.Ng_x = float(g.x());
     hit.Ng_y = float(g.y());
     hit.Ng_z = float(g.z());
@@ -76,10 +74,10 @@ void intersectCallback(const RTCIntersectFunctionNArguments* args) {
     if (!args->valid[0]) return;
     const auto& surface = *static_cast<const ImplicitSurface*>(args->geometryUserPtr);
     RTCRayHit* rayhit = reinterpret_cast<RTCRayHit*>(args->rayhit);
-    double t;
-    if (!marchCell(rayhit->ray, surface, args->primID, t)) return;
-    RTCHit candidate = candidateHit(rayhit->ray, surface, args, t);
-    if (offerToFilters(args, rayhit->ray, candidate, t, rtcFilterIntersection)) rayhit->hit = candidate;
+    const TraceResult r = marchCell(rayhit->ray, surface, args->primID);
+    if (!r.hit) return;
+    RTCHit candidate = candidateHit(rayhit->ray, surface, args, r);
+    if (offerToFilters(args, rayhit->ray, candidate, r.t, rtcFilterIntersection)) rayhit->hit = candidate;
 }
 
 void occludedCallback(const RTCOccludedFunctionNArguments* args) {
@@ -87,11 +85,11 @@ void occludedCallback(const RTCOccludedFunctionNArguments* args) {
     if (!args->valid[0]) return;
     const auto& surface = *static_cast<const ImplicitSurface*>(args->geometryUserPtr);
     RTCRay* ray = reinterpret_cast<RTCRay*>(args->ray);
-    double t;
-    if (!marchCell(*ray, surface, args->primID, t)) return;
-    RTCHit candidate = candidateHit(*ray, surface, args, t);
+    const TraceResult r = marchCell(*ray, surface, args->primID);
+    if (!r.hit) return;
+    RTCHit candidate = candidateHit(*ray, surface, args, r);
     // An accepted occluder ends traversal: Embree reads tfar = -inf as "hit".
-    if (offerToFilters(args, *ray, candidate, t, rtcFilterOcclusion)) ray->tfar = -std::numeric_limits<float>::infinity();
+    if (offerToFilters(args, *ray, candidate, r.t, rtcFilterOcclusion)) ray->tfar = -std::numeric_limits<float>::infinity();
 }
 
 }  // namespace

@@ -102,6 +102,9 @@ public:
 
     const Box3& bounds() const { return bounds_; }
     bool empty() const { return code_.empty(); }
+    /// The leaf, when the whole program is one leaf (as many pruned cell
+    /// programs are); else null.
+    const FieldLeaf* singleLeaf() const { return code_.size() == 1 ? &leaves_[code_[0].a] : nullptr; }
     size_t instructionCount() const { return code_.size(); }
     /// Node evaluations per point: instructions plus the terms inside leaves
     /// (blobs, segments), the cost measure of the benchmarks.

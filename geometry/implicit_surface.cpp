@@ -3,7 +3,12 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <stdexcept>
+
+#include <tbb/parallel_for.h>
+
+#include "variational/patch_tracer.h"
 
 namespace isotrace::geometry {
 
@@ -43,15 +48,45 @@ ImplicitSurface::ImplicitSurface(FieldProgram field, const ImplicitSurfaceOption
         level = std::move(next);
     }
 
-    for (const Box3& box : level) {
-        if (!field_.estimate(box).range.containsZero()) continue;
+    // Each cell's program, bound and (for bare variational fields) local
+    // models are independent: build them in parallel, keep them in order.
+    struct Built {
+        bool keep = false;
         SurfaceCell cell;
-        cell.box = box;
-        FieldProgram program = options.pruneCells ? field_.prunedTo(box) : field_;
-        cell.lipschitz = options.globalLipschitzOnly ? globalLipschitz_ : program.estimate(box).lipschitz;
-        cell.program = static_cast<uint32_t>(programs_.size());
-        programs_.push_back(std::move(program));
-        cells_.push_back(cell);
+        FieldProgram program;
+        std::optional<VariationalCell> variational;
+    };
+    std::vector<Built> built(level.size());
+    const double patchTolerance = options.patchRelativeTolerance * diagonal;
+    tbb::parallel_for(size_t(0), level.size(), [&](size_t i) {
+        const Box3& box = level[i];
+        if (!field_.estimate(box).range.containsZero()) return;
+        Built& b = built[i];
+        b.keep = true;
+        b.cell.box = box;
+        b.program = options.pruneCells ? field_.prunedTo(box) : field_;
+        b.cell.lipschitz = options.globalLipschitzOnly ? globalLipschitz_ : b.program.estimate(box).lipschitz;
+        const FieldLeaf* leaf = b.program.singleLeaf();
+        const auto* variational = leaf ? std::get_if<VariationalLeafField>(&leaf->shape) : nullptr;
+        if (variational && options.variationalPatches) {
+            const Box3 leafBox = leaf->placement.identity
+                                     ? box
+                                     : transformBox(leaf->placement.linear, leaf->placement.offset, box);
+            // Tolerance in the leaf's values: world values are valueScale times them.
+            auto grid = buildVariationalPatchGrid(*variational->field, leafBox,
+                                                  patchTolerance / leaf->placement.valueScale);
+            if (grid) b.variational = VariationalCell{std::move(*grid), variational->field.get(), leaf->placement};
+        }
+    });
+    for (Built& b : built) {
+        if (!b.keep) continue;
+        b.cell.program = static_cast<uint32_t>(programs_.size());
+        programs_.push_back(std::move(b.program));
+        if (b.variational) {
+            b.cell.variational = static_cast<int32_t>(variationalCells_.size());
+            variationalCells_.push_back(std::move(*b.variational));
+        }
+        cells_.push_back(b.cell);
     }
 }
 
@@ -62,9 +97,35 @@ TraceResult ImplicitSurface::intersectCell(uint32_t index, const Vec3& origin, c
     if (!clipRayToBox(cell.box, origin, direction, t0, t1)) return {};
     const FieldProgram& program = programs_[cell.program];
     TraceCounters& counters = threadTraceCounters();
-    TraceResult r = sphereTrace(program, cell.lipschitz, origin, direction, t0, t1, settings_);
-    counters.steps += r.steps;
-    counters.evaluations += r.evaluations;
+    TraceResult r;
+    if (cell.variational >= 0) {
+        // Trace in the leaf's frame: an affine map keeps the ray's t.
+        const VariationalCell& v = variationalCells_[cell.variational];
+        const Vec3 o = v.placement.leafFromWorld(origin);
+        const Vec3 d = v.placement.identity ? direction : Vec3(v.placement.linear * direction);
+        const PatchTraceResult p =
+            tracePatchGrid(v.grid, *v.field, o, d, t0, t1, settings_.epsilon / direction.norm());
+        counters.steps += p.steps + p.exactEvaluations;
+        counters.evaluations += uint64_t(p.steps) * VariationalPatch::kMonomials +
+                                uint64_t(p.exactEvaluations) * v.field->termCount();
+        if (p.complete) {
+            r.hit = p.hit;
+            r.t = p.t;
+            r.steps = p.steps + p.exactEvaluations;
+            // grad of valueScale f(A x + b) is valueScale A^T grad f.
+            r.gradientKnown = p.hit;
+            r.gradient = v.placement.valueScale *
+                         (v.placement.identity ? p.gradient : Vec3(v.placement.linear.transpose() * p.gradient));
+        } else {
+            r = sphereTrace(program, cell.lipschitz, origin, direction, p.t, t1, settings_);
+            counters.steps += r.steps;
+            counters.evaluations += r.evaluations;
+        }
+    } else {
+        r = sphereTrace(program, cell.lipschitz, origin, direction, t0, t1, settings_);
+        counters.steps += r.steps;
+        counters.evaluations += r.evaluations;
+    }
     // Hits exactly at tNear belong to the caller's previous surface.
     if (r.hit && !(r.t > tNear && r.t < tFar)) r.hit = false;
     return r;

@@ -10,6 +10,7 @@
 
 #include "field_program.h"
 #include "sphere_tracer.h"
+#include "variational/variational_patch.h"
 
 namespace isotrace::geometry {
 
@@ -20,12 +21,27 @@ struct ImplicitSurfaceOptions {
     bool pruneCells = true;      ///< per-cell pruning (off only to measure it)
     /// One global bound for every cell instead of local ones (benchmarks only).
     bool globalLipschitzOnly = false;
+    /// Cells whose program is a bare variational field march through local
+    /// models (variational_patch.h) instead of O(N) sums (off only to
+    /// measure it).
+    bool variationalPatches = true;
+    /// Their models' value error target, relative to the bounds' diagonal.
+    double patchRelativeTolerance = 1e-4;
 };
 
 struct SurfaceCell {
     Box3 box;
     double lipschitz = 0.0;
     uint32_t program = 0;  ///< index into ImplicitSurface::cellPrograms
+    int32_t variational = -1;  ///< index of its local models, or -1
+};
+
+/// A cell whose program is one variational leaf: the leaf's models over
+/// the cell (in the leaf's frame) and how to reach that frame.
+struct VariationalCell {
+    VariationalPatchGrid grid;
+    const VariationalField* field = nullptr;  ///< owned by the cell's program
+    LeafPlacement placement;
 };
 
 /// Per-thread totals of the marching work, read by benchmarks and AOVs.
@@ -46,6 +62,7 @@ public:
     const FieldProgram& cellProgram(const SurfaceCell& c) const { return programs_[c.program]; }
     const TraceSettings& traceSettings() const { return settings_; }
     double globalLipschitz() const { return globalLipschitz_; }
+    size_t variationalCellCount() const { return variationalCells_.size(); }
 
     /// Nearest hit in one cell for t in (tNear, tFar); counts its work.
     TraceResult intersectCell(uint32_t cell, const Vec3& origin, const Vec3& direction, double tNear,
@@ -65,6 +82,7 @@ private:
     Box3 bounds_;
     std::vector<SurfaceCell> cells_;
     std::vector<FieldProgram> programs_;
+    std::vector<VariationalCell> variationalCells_;
     TraceSettings settings_;
     double globalLipschitz_ = 0.0;
 };

@@ -17,6 +17,10 @@ struct TraceResult {
     double t = 0.0;
     int steps = 0;             ///< field evaluations made while marching
     uint64_t evaluations = 0;  ///< node evaluations (steps times program cost)
+    /// The field's gradient at the hit, when the tracer already has it
+    /// (saves the caller an evaluation).
+    bool gradientKnown = false;
+    Vec3 gradient = Vec3::Zero();
 };
 
 struct TraceSettings {

@@ -1,0 +1,227 @@
+#include "patch_tracer.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace isotrace::geometry {
+
+namespace {
+
+inline int signOf(double v) { return (v > 0) - (v < 0); }
+
+// Illinois regula falsi on the exact field between ta (value fa) and tb
+// (value fb) of opposite signs.
+double refineExactly(const VariationalField& field, const Vec3& origin, const Vec3& direction, double ta, double fa,
+                     double tb, double fb, double tolerance, int& evaluations) {
+    int lastSide = 0;
+    for (int i = 0; i < 100 && tb - ta > tolerance; ++i) {
+        double t = (ta * fb - tb * fa) / (fb - fa);
+        if (!(t > ta && t < tb)) t = 0.5 * (ta + tb);
+        const double f = field.value(origin + t * direction);
+        ++evaluations;
+        if (f == 0.0) return t;
+        if (signOf(f) == signOf(fa)) {
+            ta = t;
+            fa = f;
+            if (lastSide == 1) fb *= 0.5;
+            lastSide = 1;
+        } else {
+            tb = t;
+            fb = f;
+            if (lastSide == -1) fa *= 0.5;
+            lastSide = -1;
+        }
+    }
+    return 0.5 * (ta + tb);
+}
+
+// Walks the grid's cells along the ray (Amanatides and Woo).
+struct CellWalk {
+    int index[3], step[3];
+    double tNext[3], tDelta[3];
+    int resolution;
+
+    CellWalk(const VariationalPatchGrid& grid, const Vec3& origin, const Vec3& direction, double tStart)
+        : resolution(grid.resolution) {
+        const Vec3 cell = grid.cellExtent();
+        const Vec3 p = origin + tStart * direction;
+        for (int a = 0; a < 3; ++a) {
+            const double u = (p[a] - grid.box.lower[a]) / cell[a];
+            index[a] = std::clamp(int(std::floor(u)), 0, resolution - 1);
+            if (direction[a] > 0) {
+                step[a] = 1;
+                tNext[a] = (grid.box.lower[a] + (index[a] + 1) * cell[a] - origin[a]) / direction[a];
+                tDelta[a] = cell[a] / direction[a];
+            } else if (direction[a] < 0) {
+                step[a] = -1;
+                tNext[a] = (grid.box.lower[a] + index[a] * cell[a] - origin[a]) / direction[a];
+                tDelta[a] = -cell[a] / direction[a];
+            } else {
+                step[a] = 0;
+                tNext[a] = std::numeric_limits<double>::infinity();
+                tDelta[a] = 0;
+            }
+        }
+    }
+    double exit() const { return std::min({tNext[0], tNext[1], tNext[2]}); }
+    /// Moves to the next cell; false when the ray leaves the grid.
+    bool advance() {
+        const int a = tNext[0] <= tNext[1] ? (tNext[0] <= tNext[2] ? 0 : 2) : (tNext[1] <= tNext[2] ? 1 : 2);
+        index[a] += step[a];
+        tNext[a] += tDelta[a];
+        return index[a] >= 0 && index[a] < resolution;
+    }
+};
+
+}  // namespace
+
+PatchTraceResult tracePatchGrid(const VariationalPatchGrid& grid, const VariationalField& field, const Vec3& origin,
+                                const Vec3& direction, double tStart, double tEnd, double minStep, int maxSteps) {
+    PatchTraceResult result;
+    const double speed = direction.norm();
+    if (!(speed > 0) || !(tEnd >= tStart)) return result;
+
+    int side = 0;                // sign of f on the part of the ray already cleared
+    double tCleared = tStart;    // no root in [tStart, tCleared) ... up to t
+    double fCleared = std::numeric_limits<double>::quiet_NaN();  // exact f at tCleared when known
+    // The anchor: exact value and gradient at tAnchor, and how far the
+    // anchor's model was off there.
+    const VariationalPatch* anchorPatch = nullptr;
+    double tAnchor = 0, anchorValue = 0, anchorOffset = 0;
+    Vec3 anchorGradient = Vec3::Zero();
+
+    auto exactAt = [&](double t, Vec3* gradient) {
+        ++result.exactEvaluations;
+        if (gradient) return field.valueAndGradient(origin + t * direction, *gradient);
+        return field.value(origin + t * direction);
+    };
+    auto hitAt = [&](double t, const Vec3& gradient) {
+        result.hit = true;
+        result.t = t;
+        result.gradient = gradient;
+        return result;
+    };
+    // A sign change after a forced step: the bracket [tCleared, t] has ends
+    // of opposite signs; settle it with exact values.
+    auto refineBracket = [&](double t) {
+        const double fa = std::isnan(fCleared) ? exactAt(tCleared, nullptr) : fCleared;
+        const double fb = exactAt(t, nullptr);
+        if (signOf(fa) == signOf(fb)) return std::numeric_limits<double>::quiet_NaN();  // rounding; go on
+        const double root =
+            refineExactly(field, origin, direction, tCleared, fa, t, fb, 1e-3 * minStep, result.exactEvaluations);
+        exactAt(root, &result.gradient);
+        return root;
+    };
+
+    CellWalk walk(grid, origin, direction, tStart);
+    double t = tStart;
+    for (;;) {
+        const double cellEnd = std::min(walk.exit(), tEnd);
+        const VariationalPatch& patch = grid.at(walk.index[0], walk.index[1], walk.index[2]);
+        if (patch.holdsNoZero) {
+            const int s = signOf(patch.value(patch.expansionPoint));
+            if (side == 0) side = s;
+            else if (s != side) {
+                // Only rounding at a cell face can get here.
+                const double root = refineBracket(std::max(t, tCleared));
+                if (!std::isnan(root)) return hitAt(root, result.gradient);
+            }
+            tCleared = t = std::max(t, cellEnd);
+            fCleared = std::numeric_limits<double>::quiet_NaN();
+        } else {
+            const double stepScale = 1.0 / (patch.lipschitz * speed);
+            const double driftRate = patch.gradientError * speed;
+            while (t <= cellEnd) {
+                if (++result.steps > maxSteps) {
+                    result.complete = false;
+                    result.t = t;
+                    return result;
+                }
+                const Vec3 p = origin + t * direction;
+                const double model = patch.value(p);
+                // The sign f certainly has here, and how far |f| is from 0.
+                int sign = 0;
+                double margin = 0.0;
+                if (std::abs(model) > patch.valueError) {
+                    sign = signOf(model);
+                    margin = std::abs(model) - patch.valueError;
+                }
+                const bool anchoredHere = anchorPatch == &patch;
+                if (anchoredHere) {
+                    const double shifted = model + anchorOffset, drift = driftRate * std::abs(t - tAnchor);
+                    if (std::abs(shifted) - drift > margin) {
+                        sign = signOf(shifted);
+                        margin = std::abs(shifted) - drift;
+                    }
+                }
+                if (t == tAnchor && anchoredHere) {  // the anchor itself: exact
+                    sign = signOf(anchorValue);
+                    margin = std::abs(anchorValue);
+                }
+                if (sign == 0) {
+                    if (anchoredHere && t == tAnchor) return hitAt(t, anchorGradient);  // f == 0 exactly
+                    anchorValue = exactAt(t, &anchorGradient);
+                    anchorPatch = &patch;
+                    tAnchor = t;
+                    anchorOffset = anchorValue - model;
+                    continue;
+                }
+                if (side == 0) side = sign;
+                else if (sign != side) {
+                    const double root = refineBracket(t);
+                    if (!std::isnan(root)) return hitAt(root, result.gradient);
+                    side = sign;
+                }
+                if (anchoredHere && t == tAnchor) fCleared = anchorValue;
+                const double step = margin * stepScale;
+                if (step >= minStep) {
+                    tCleared = t;
+                    if (!(anchoredHere && t == tAnchor)) fCleared = std::numeric_limits<double>::quiet_NaN();
+                    t = std::min(t + step, cellEnd);
+                    if (t == cellEnd) break;
+                    continue;
+                }
+                // Stalled within resolution of the surface (or grazing it).
+                // Newton from the anchor, accepted when the cleared part of
+                // the ray reaches within two steps of the predicted root and
+                // the shifted model proves f has changed sign just beyond it.
+                if (anchoredHere) {
+                    const double slope = anchorGradient.dot(direction);
+                    if (side * slope < 0) {
+                        const double tNewton = tAnchor - anchorValue / slope;
+                        const double beyond = tNewton + std::max(tNewton - t, minStep);
+                        if (tNewton >= t - minStep && tNewton - t <= 2 * minStep && beyond <= cellEnd) {
+                            const double shifted = patch.value(origin + beyond * direction) + anchorOffset;
+                            if (-side * shifted > driftRate * (beyond - tAnchor))
+                                return hitAt(std::max(tNewton, tStart), anchorGradient);
+                        }
+                    }
+                }
+                if (!(anchoredHere && t == tAnchor)) {
+                    anchorValue = exactAt(t, &anchorGradient);
+                    anchorPatch = &patch;
+                    tAnchor = t;
+                    anchorOffset = anchorValue - model;
+                    continue;
+                }
+                // Anchored right here and still no room: a forced step,
+                // which may skip a sliver thinner than minStep.
+                tCleared = t;
+                fCleared = anchorValue;
+                if (t + minStep >= tEnd) {
+                    // The segment's end: no later cell of this ray will see
+                    // the sign there, so look now.
+                    const double root = refineBracket(tEnd);
+                    if (!std::isnan(root)) return hitAt(root, result.gradient);
+                    return result;
+                }
+                t = std::min(t + minStep, cellEnd);
+                if (t == cellEnd) break;
+            }
+        }
+        if (cellEnd >= tEnd || !walk.advance()) return result;
+    }
+}
+
+}  // namespace isotrace::geometry

@@ -1,0 +1,39 @@
+// Sphere tracing a variational field through its local models: each step
+// costs a degree-4 polynomial and a few near terms instead of a sum over
+// every constraint, and never crosses the exact surface.
+//
+// Far from the surface a model's value error e bounds |f - model|, so
+// (|model| - e) / L is a safe step. Where |model| <= e the model cannot tell
+// the sign; there the exact field is evaluated once (an "anchor"), and
+// because the gradient of f - model is at most g (the gradient error) the
+// model shifted by the anchor's exact difference is within g times the
+// distance from the anchor: the steps go on, cheaply, to within about
+// g / |f'| of the remaining distance. A second anchor there brackets the
+// root to the distance resolution, and a Newton step from it (with the
+// exact gradient it brought) gives the hit.
+#pragma once
+
+#include "geometry/variational/variational_patch.h"
+
+namespace isotrace::geometry {
+
+struct PatchTraceResult {
+    /// False when the march ran out of steps (a ray grazing the surface for
+    /// a long way): the caller settles [t, tEnd] another way.
+    bool complete = true;
+    bool hit = false;
+    double t = 0.0;
+    Vec3 gradient = Vec3::Zero();  ///< exact, at the last anchor (within resolution of the hit)
+    int steps = 0;                 ///< model evaluations
+    int exactEvaluations = 0;      ///< evaluations of the exact field
+};
+
+/// First root of `field` along origin + t direction for t in [tStart, tEnd],
+/// a segment inside grid.box. Marching never skips a piece of surface
+/// thinner than minStep (in t) along the ray, and brackets the hit to a
+/// few minSteps before the Newton step.
+PatchTraceResult tracePatchGrid(const VariationalPatchGrid& grid, const VariationalField& field, const Vec3& origin,
+                                const Vec3& direction, double tStart, double tEnd, double minStep,
+                                int maxSteps = 4000);
+
+}  // namespace isotrace::geometry

@@ -1,0 +1,84 @@
+// A local model of a variational field over one box, cheap to evaluate and
+// with a proven error bound: what lets a sphere-tracing step cost O(1)
+// instead of O(N).
+//
+// Inside the box, f = T + sum over near centres + e, where
+//  - T is the fourth-order Taylor polynomial, at the box centre, of the
+//    terms whose centres lie at least nearFactor half-diagonals away. Its
+//    coefficients are exact sums over all those terms, so the cancellation
+//    between the fit's huge, oscillating weights stays inside them.
+//  - the near centres (a handful) are evaluated exactly;
+//  - |e| <= valueError and |grad e| <= gradientError everywhere in the box.
+//    They come from the fifth directional derivative of r^3,
+//    |d^5/dt^5 |x + t u|^3| = 45 |a| (1 - a^2)^2 / r^2 <= 12.88 / r^2, summed
+//    with |w_j| over the far terms: the terms are bounded one by one, but only
+//    at fifth order, where (s / r)^5 makes the sum of |w_j| harmless.
+// By Banach's theorem on symmetric forms, the same constant bounds the mixed
+// fifth derivative that the gradient's remainder needs.
+#pragma once
+
+#include <array>
+#include <optional>
+#include <vector>
+
+#include "geometry/variational/variational_field.h"
+
+namespace isotrace::geometry {
+
+/// One exactly evaluated term w |x - c|^3.
+struct NearTerm {
+    Vec3 center;
+    double weight;
+};
+
+struct VariationalPatch {
+    /// Monomials h_x^a h_y^b h_z^c with a + b + c <= 4, h = x - expansionPoint.
+    static constexpr int kMonomials = 35;
+
+    Box3 box;
+    Vec3 expansionPoint;
+    std::array<double, kMonomials> coefficients{};
+    std::vector<NearTerm> near;
+    double valueError = 0.0;     ///< |f - model| over the box
+    double gradientError = 0.0;  ///< |grad f - grad model| over the box
+    double lipschitz = 0.0;      ///< |grad f| over the box
+    /// |f| > 0 everywhere in the box (the model at the centre minus the
+    /// gradient bound times the half-diagonal and the error): rays skip it.
+    bool holdsNoZero = false;
+
+    /// The model (polynomial plus near terms) and its gradient.
+    double value(const Vec3& x) const;
+    double valueAndGradient(const Vec3& x, Vec3& gradient) const;
+};
+
+struct PatchOptions {
+    /// Centres closer to the box centre than this many half-diagonals are
+    /// evaluated exactly; farther ones enter the polynomial, their remainder
+    /// weighted by 1 / (r - s)^2.
+    double nearFactor = 1.5;
+};
+
+/// The model of `field` over `box`; none for fields with gradient
+/// (Hermite) constraints, whose terms are not plain r^3.
+std::optional<VariationalPatch> buildVariationalPatch(const VariationalField& field, const Box3& box,
+                                                      const PatchOptions& options = {});
+
+/// A box split into resolution^3 equal cells with a model each, fine enough
+/// that every model's value error is at most the tolerance asked for (or
+/// the finest resolution allowed is reached).
+struct VariationalPatchGrid {
+    Box3 box;
+    int resolution = 1;
+    std::vector<VariationalPatch> patches;  ///< x fastest, then y, then z
+
+    Vec3 cellExtent() const { return box.extent() / resolution; }
+    const VariationalPatch& at(int i, int j, int k) const {
+        return patches[size_t(i) + size_t(resolution) * (size_t(j) + size_t(resolution) * size_t(k))];
+    }
+};
+
+/// Resolutions tried: 1, 2, 4 cells per axis. None for Hermite fields.
+std::optional<VariationalPatchGrid> buildVariationalPatchGrid(const VariationalField& field, const Box3& box,
+                                                              double tolerance, int maxResolution = 4);
+
+}  // namespace isotrace::geometry
