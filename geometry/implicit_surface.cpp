@@ -1,6 +1,7 @@
 #include "implicit_surface.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <optional>
@@ -34,15 +35,23 @@ ImplicitSurface::ImplicitSurface(FieldProgram field, const ImplicitSurfaceOption
     globalLipschitz_ = field_.estimate(root).lipschitz;
 
     // Refine level by level, keeping only cells whose range holds zero.
+    // Children are tested in parallel (a variational field's range is an
+    // O(N) sum) and kept in a fixed order.
     std::vector<Box3> level{root};
     for (int depth = 0; depth < options.maxDepth; ++depth) {
-        std::vector<Box3> next;
-        for (const Box3& box : level) {
-            const Vec3 c = box.center();
-            for (int i = 0; i < 8; ++i) {
-                Box3 child(box.corner(i).cwiseMin(c), box.corner(i).cwiseMax(c));
-                if (field_.estimate(child).range.containsZero()) next.push_back(child);
+        std::vector<std::array<bool, 8>> keep(level.size());
+        tbb::parallel_for(size_t(0), level.size(), [&](size_t i) {
+            const Vec3 c = level[i].center();
+            for (int k = 0; k < 8; ++k) {
+                const Box3 child(level[i].corner(k).cwiseMin(c), level[i].corner(k).cwiseMax(c));
+                keep[i][k] = field_.range(child).containsZero();
             }
+        });
+        std::vector<Box3> next;
+        for (size_t i = 0; i < level.size(); ++i) {
+            const Vec3 c = level[i].center();
+            for (int k = 0; k < 8; ++k)
+                if (keep[i][k]) next.emplace_back(level[i].corner(k).cwiseMin(c), level[i].corner(k).cwiseMax(c));
         }
         if (next.size() > options.cellBudget) break;
         level = std::move(next);
@@ -73,9 +82,18 @@ ImplicitSurface::ImplicitSurface(FieldProgram field, const ImplicitSurfaceOption
                                      ? box
                                      : transformBox(leaf->placement.linear, leaf->placement.offset, box);
             // Tolerance in the leaf's values: world values are valueScale times them.
-            auto grid = buildVariationalPatchGrid(*variational->field, leafBox,
-                                                  patchTolerance / leaf->placement.valueScale);
-            if (grid) b.variational = VariationalCell{std::move(*grid), variational->field.get(), leaf->placement};
+            auto models = buildVariationalPatchTree(*variational->field, leafBox,
+                                                    patchTolerance / leaf->placement.valueScale);
+            if (models) {
+                // A cell its models prove empty is no cell at all.
+                bool empty = true;
+                for (const VariationalPatch& patch : models->patches) empty = empty && patch.holdsNoZero;
+                if (empty) {
+                    b.keep = false;
+                    return;
+                }
+                b.variational = VariationalCell{std::move(*models), variational->field.get(), leaf->placement};
+            }
         }
     });
     for (Built& b : built) {
@@ -104,7 +122,7 @@ TraceResult ImplicitSurface::intersectCell(uint32_t index, const Vec3& origin, c
         const Vec3 o = v.placement.leafFromWorld(origin);
         const Vec3 d = v.placement.identity ? direction : Vec3(v.placement.linear * direction);
         const PatchTraceResult p =
-            tracePatchGrid(v.grid, *v.field, o, d, t0, t1, settings_.epsilon / direction.norm());
+            tracePatchTree(v.models, *v.field, o, d, t0, t1, settings_.epsilon / direction.norm());
         counters.steps += p.steps + p.exactEvaluations;
         counters.evaluations += uint64_t(p.steps) * VariationalPatch::kMonomials +
                                 uint64_t(p.exactEvaluations) * v.field->termCount();

@@ -39,7 +39,7 @@ struct SurfaceCell {
 /// A cell whose program is one variational leaf: the leaf's models over
 /// the cell (in the leaf's frame) and how to reach that frame.
 struct VariationalCell {
-    VariationalPatchGrid grid;
+    VariationalPatchTree models;
     const VariationalField* field = nullptr;  ///< owned by the cell's program
     LeafPlacement placement;
 };

@@ -1,5 +1,7 @@
 #include "patch_tracer.h"
 
+#include "geometry/sphere_tracer.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -36,47 +38,9 @@ double refineExactly(const VariationalField& field, const Vec3& origin, const Ve
     return 0.5 * (ta + tb);
 }
 
-// Walks the grid's cells along the ray (Amanatides and Woo).
-struct CellWalk {
-    int index[3], step[3];
-    double tNext[3], tDelta[3];
-    int resolution;
-
-    CellWalk(const VariationalPatchGrid& grid, const Vec3& origin, const Vec3& direction, double tStart)
-        : resolution(grid.resolution) {
-        const Vec3 cell = grid.cellExtent();
-        const Vec3 p = origin + tStart * direction;
-        for (int a = 0; a < 3; ++a) {
-            const double u = (p[a] - grid.box.lower[a]) / cell[a];
-            index[a] = std::clamp(int(std::floor(u)), 0, resolution - 1);
-            if (direction[a] > 0) {
-                step[a] = 1;
-                tNext[a] = (grid.box.lower[a] + (index[a] + 1) * cell[a] - origin[a]) / direction[a];
-                tDelta[a] = cell[a] / direction[a];
-            } else if (direction[a] < 0) {
-                step[a] = -1;
-                tNext[a] = (grid.box.lower[a] + index[a] * cell[a] - origin[a]) / direction[a];
-                tDelta[a] = -cell[a] / direction[a];
-            } else {
-                step[a] = 0;
-                tNext[a] = std::numeric_limits<double>::infinity();
-                tDelta[a] = 0;
-            }
-        }
-    }
-    double exit() const { return std::min({tNext[0], tNext[1], tNext[2]}); }
-    /// Moves to the next cell; false when the ray leaves the grid.
-    bool advance() {
-        const int a = tNext[0] <= tNext[1] ? (tNext[0] <= tNext[2] ? 0 : 2) : (tNext[1] <= tNext[2] ? 1 : 2);
-        index[a] += step[a];
-        tNext[a] += tDelta[a];
-        return index[a] >= 0 && index[a] < resolution;
-    }
-};
-
 }  // namespace
 
-PatchTraceResult tracePatchGrid(const VariationalPatchGrid& grid, const VariationalField& field, const Vec3& origin,
+PatchTraceResult tracePatchTree(const VariationalPatchTree& tree, const VariationalField& field, const Vec3& origin,
                                 const Vec3& direction, double tStart, double tEnd, double minStep, int maxSteps) {
     PatchTraceResult result;
     const double speed = direction.norm();
@@ -114,11 +78,15 @@ PatchTraceResult tracePatchGrid(const VariationalPatchGrid& grid, const Variatio
         return root;
     };
 
-    CellWalk walk(grid, origin, direction, tStart);
     double t = tStart;
     for (;;) {
-        const double cellEnd = std::min(walk.exit(), tEnd);
-        const VariationalPatch& patch = grid.at(walk.index[0], walk.index[1], walk.index[2]);
+        // The leaf the ray is in, and where it leaves it.
+        const VariationalPatchTree::Node& leaf = tree.leafAt(origin + t * direction, direction);
+        double tEnter = -std::numeric_limits<double>::infinity(), tExit = std::numeric_limits<double>::infinity();
+        clipRayToBox(leaf.box, origin, direction, tEnter, tExit);
+        // Rounding can put a point a hair outside the leaf it was assigned.
+        const double cellEnd = std::min(std::max(tExit, t), tEnd);
+        const VariationalPatch& patch = tree.patches[leaf.patch];
         if (patch.holdsNoZero) {
             const int s = signOf(patch.value(patch.expansionPoint));
             if (side == 0) side = s;
@@ -220,7 +188,11 @@ PatchTraceResult tracePatchGrid(const VariationalPatchGrid& grid, const Variatio
                 if (t == cellEnd) break;
             }
         }
-        if (cellEnd >= tEnd || !walk.advance()) return result;
+        if (cellEnd >= tEnd) return result;
+        // Step onto the next leaf. When rounding puts the point back in the
+        // same leaf, nudge it on by a negligible fraction of a step.
+        t = std::max(t, cellEnd);
+        if (&tree.leafAt(origin + t * direction, direction) == &leaf) t += 1e-3 * minStep;
     }
 }
 

@@ -29,10 +29,10 @@ struct PatchTraceResult {
 };
 
 /// First root of `field` along origin + t direction for t in [tStart, tEnd],
-/// a segment inside grid.box. Marching never skips a piece of surface
+/// a segment inside the tree's root box. Marching never skips a piece of surface
 /// thinner than minStep (in t) along the ray, and brackets the hit to a
 /// few minSteps before the Newton step.
-PatchTraceResult tracePatchGrid(const VariationalPatchGrid& grid, const VariationalField& field, const Vec3& origin,
+PatchTraceResult tracePatchTree(const VariationalPatchTree& tree, const VariationalField& field, const Vec3& origin,
                                 const Vec3& direction, double tStart, double tEnd, double minStep,
                                 int maxSteps = 4000);
 

@@ -1,5 +1,6 @@
 #include "variational_field.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -79,16 +80,20 @@ struct BoxBounds {
 // do not depend on a box. Scalar accumulators keep the loop free of
 // temporaries: it runs at every sphere-tracing step.
 BoxBounds taylorAt(const VariationalField& f, const Vec3& x) {
-    BoxBounds b{f.constant + f.linear.dot(x), 0.0, 0.0, 0.0, 0.0, 0.0};
-    double gx = f.linear.x(), gy = f.linear.y(), gz = f.linear.z();
+    BoxBounds b{0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
+    double value = 0, gx = 0, gy = 0, gz = 0;
     double hxx = 0, hyy = 0, hzz = 0, hxy = 0, hxz = 0, hyz = 0, weightSum = 0;
     const size_t n = f.centers.size();
+    const double* c = n ? f.centers[0].data() : nullptr;
+    const double* weights = f.weights.data();
+    const double px = x.x(), py = x.y(), pz = x.z();
+#pragma omp simd reduction(+ : value, gx, gy, gz, hxx, hyy, hzz, hxy, hxz, hyz, weightSum)
     for (size_t i = 0; i < n; ++i) {
-        const double dx = x.x() - f.centers[i].x(), dy = x.y() - f.centers[i].y(), dz = x.z() - f.centers[i].z();
-        const double w = f.weights[i];
+        const double dx = px - c[3 * i], dy = py - c[3 * i + 1], dz = pz - c[3 * i + 2];
+        const double w = weights[i];
         const double r2 = dx * dx + dy * dy + dz * dz, r = std::sqrt(r2);
         const double wr3 = 3.0 * w * r;
-        b.value += w * r * r2;
+        value += w * r * r2;
         gx += wr3 * dx;
         gy += wr3 * dy;
         gz += wr3 * dz;
@@ -102,6 +107,10 @@ BoxBounds taylorAt(const VariationalField& f, const Vec3& x) {
         hyz += q * dy * dz;
         weightSum += std::abs(w);
     }
+    b.value = value + f.constant + f.linear.dot(x);
+    gx += f.linear.x();
+    gy += f.linear.y();
+    gz += f.linear.z();
     for (size_t k = 0; k < f.gradientCenters.size(); ++k) {
         const Vec3 d = x - f.gradientCenters[k];
         const Vec3& w = f.gradientWeights[k];
@@ -124,9 +133,20 @@ BoxBounds taylorAt(const VariationalField& f, const Vec3& x) {
 
 BoxBounds boxBounds(const VariationalField& f, const Box3& box) {
     BoxBounds b = taylorAt(f, box.center());
-    for (size_t i = 0; i < f.centers.size(); ++i)
-        b.hessianAnywhere += 6.0 * std::abs(f.weights[i]) * box.distanceRange(f.centers[i]).hi;
-    b.hessianAnywhere += b.hermiteHessian;
+    // Farthest distance from each centre to the box.
+    const size_t n = f.centers.size();
+    const double* c = n ? f.centers[0].data() : nullptr;
+    const double* weights = f.weights.data();
+    const Vec3 lo = box.lower, hi = box.upper;
+    double hessianAnywhere = 0.0;
+#pragma omp simd reduction(+ : hessianAnywhere)
+    for (size_t i = 0; i < n; ++i) {
+        const double fx = std::max(std::abs(c[3 * i] - lo.x()), std::abs(c[3 * i] - hi.x()));
+        const double fy = std::max(std::abs(c[3 * i + 1] - lo.y()), std::abs(c[3 * i + 1] - hi.y()));
+        const double fz = std::max(std::abs(c[3 * i + 2] - lo.z()), std::abs(c[3 * i + 2] - hi.z()));
+        hessianAnywhere += 6.0 * std::abs(weights[i]) * std::sqrt(fx * fx + fy * fy + fz * fz);
+    }
+    b.hessianAnywhere = hessianAnywhere + b.hermiteHessian;
     return b;
 }
 

@@ -2,30 +2,35 @@
 
 #include <cmath>
 #include <limits>
+#include <utility>
 
 namespace isotrace::geometry {
 
 namespace {
 
-// Monomials of degree <= 4 in three variables, graded: exponents and the
-// index of each exponent triple.
+// Monomials of degree <= 4 in three variables, ordered for nested Horner
+// evaluation: x outermost, then y, then z.
+constexpr std::array<std::array<int, 3>, VariationalPatch::kMonomials> kExponents = [] {
+    std::array<std::array<int, 3>, VariationalPatch::kMonomials> e{};
+    int n = 0;
+    for (int a = 0; a <= 4; ++a)
+        for (int b = 0; a + b <= 4; ++b)
+            for (int c = 0; a + b + c <= 4; ++c) e[n++] = {a, b, c};
+    return e;
+}();
+
 struct MonomialTable {
-    std::array<std::array<int, 3>, VariationalPatch::kMonomials> exponents{};
+    const std::array<std::array<int, 3>, VariationalPatch::kMonomials>& exponents = kExponents;
     int index[5][5][5]{};
     std::array<double, VariationalPatch::kMonomials> inverseFactorial{};  ///< 1 / (a! b! c!)
 
-    // Ordered for nested Horner evaluation: x outermost, then y, then z.
     MonomialTable() {
         const double factorial[5] = {1, 1, 2, 6, 24};
-        int n = 0;
-        for (int a = 0; a <= 4; ++a)
-            for (int b = 0; a + b <= 4; ++b)
-                for (int c = 0; a + b + c <= 4; ++c) {
-                    exponents[n] = {a, b, c};
-                    index[a][b][c] = n;
-                    inverseFactorial[n] = 1.0 / (factorial[a] * factorial[b] * factorial[c]);
-                    ++n;
-                }
+        for (int n = 0; n < VariationalPatch::kMonomials; ++n) {
+            const auto& e = exponents[n];
+            index[e[0]][e[1]][e[2]] = n;
+            inverseFactorial[n] = 1.0 / (factorial[e[0]] * factorial[e[1]] * factorial[e[2]]);
+        }
     }
     // The monomial of a multiset of axes, e.g. {0, 0, 2} -> x^2 z.
     template <class... Axes>
@@ -57,6 +62,79 @@ inline double delta(int i, int j) { return i == j ? 1.0 : 0.0; }
 // Bound on |d^5/dt^5 |x + t u|^3| * r^2 for unit u (see the header).
 constexpr double kFifthDerivative = 12.88;
 
+template <int K>
+inline double power(double x) {
+    if constexpr (K == 0) return 1.0;
+    else return x * power<K - 1>(x);
+}
+
+// Per-centre quantities, one array each so that every sum below is a
+// vector loop. Kept per thread: building a model allocates nothing after
+// the first.
+struct Scratch {
+    std::vector<double> dx, dy, dz, r;
+    std::vector<double> r3Weight, rWeight;  // w r^3, w r (every term)
+    std::vector<double> hessianWeight;      // w / r (every term; 0 at r = 0)
+    std::vector<double> farInvR, farInvR3, farInvR5;  // w / r^k, far terms only
+    std::vector<double> remainder, magnitude;          // |w| / (r - s)^2 (far), |w| (r + s)^3
+
+    void resize(size_t n) {
+        for (auto* v : {&dx, &dy, &dz, &r, &r3Weight, &rWeight, &hessianWeight, &farInvR, &farInvR3, &farInvR5,
+                        &remainder, &magnitude})
+            v->resize(n);
+    }
+};
+
+inline double plainSum(const std::vector<double>& v) {
+    double sum = 0.0;
+    const double* p = v.data();
+    const size_t n = v.size();
+#pragma omp simd reduction(+ : sum)
+    for (size_t j = 0; j < n; ++j) sum += p[j];
+    return sum;
+}
+
+// sum_j weight_j dx_j^A dy_j^B dz_j^C
+template <int A, int B, int C>
+double moment(const std::vector<double>& weight, const Scratch& s) {
+    const double *w = weight.data(), *x = s.dx.data(), *y = s.dy.data(), *z = s.dz.data();
+    const size_t n = weight.size();
+    double sum = 0.0;
+#pragma omp simd reduction(+ : sum)
+    for (size_t j = 0; j < n; ++j) sum += w[j] * power<A>(x[j]) * power<B>(y[j]) * power<C>(z[j]);
+    return sum;
+}
+
+// The sums the Taylor coefficients need, named by the power of r that
+// weights them; each indexed by the monomial d^beta it multiplies.
+struct TermSums {
+    double r3Sum = 0, rSum = 0;  // sum w r^3, sum w r
+    std::array<double, VariationalPatch::kMonomials> byR{}, byInvR{}, byInvR3{}, byInvR5{};
+};
+
+template <size_t I>
+void accumulateMonomial(const Scratch& s, TermSums& out) {
+    constexpr int a = kExponents[I][0], b = kExponents[I][1], c = kExponents[I][2], degree = a + b + c;
+    if constexpr (degree == 0) {
+        out.byInvR[I] = plainSum(s.farInvR);
+    } else if constexpr (degree == 1) {
+        out.byR[I] = moment<a, b, c>(s.rWeight, s);
+        out.byInvR[I] = moment<a, b, c>(s.farInvR, s);
+    } else if constexpr (degree == 2) {
+        out.byInvR[I] = moment<a, b, c>(s.hessianWeight, s);
+        out.byInvR3[I] = moment<a, b, c>(s.farInvR3, s);
+    } else if constexpr (degree == 3) {
+        out.byInvR3[I] = moment<a, b, c>(s.farInvR3, s);
+    } else {
+        out.byInvR5[I] = moment<a, b, c>(s.farInvR5, s);
+    }
+}
+
+template <size_t... I>
+void accumulateMonomials(const Scratch& s, TermSums& out, std::index_sequence<I...>) {
+    (accumulateMonomial<I>(s, out), ...);
+}
+
 }  // namespace
 
 std::optional<VariationalPatch> buildVariationalPatch(const VariationalField& field, const Box3& box,
@@ -70,43 +148,59 @@ std::optional<VariationalPatch> buildVariationalPatch(const VariationalField& fi
     const double s = box.halfDiagonal();
     const double nearRadius = options.nearFactor * s;
 
-    // Sums over the far terms (d = x0 - c, r = |d|), named by the power of r
-    // that weights them; each indexed by the monomial d^beta it multiplies.
-    constexpr int M = VariationalPatch::kMonomials;
-    double r3Sum = 0, rSum = 0;  // sum w r^3, sum w r
-    std::array<double, M> byR{}, byInvR{}, byInvR3{}, byInvR5{};  // w r d^b, w/r d^b, w/r^3 d^b, w/r^5 d^b
-    double remainderSum = 0;     // sum |w| / (r - s)^2
-    double magnitudeSum = 0;     // sum |w| (r + s)^3, for rounding
-    for (size_t j = 0; j < field.centers.size(); ++j) {
-        const Vec3 d = x0 - field.centers[j];
-        const double w = field.weights[j], r = d.norm();
-        if (r < nearRadius) {
-            patch.near.push_back({field.centers[j], w});
-            continue;
+    // Near terms enter the polynomial up to second order only (their third
+    // derivative jumps at their centre) and are corrected exactly when the
+    // model is evaluated; far terms enter it to fourth order.
+    thread_local Scratch scratch;
+    const size_t n = field.centers.size();
+    scratch.resize(n);
+    const double* c = field.centers.empty() ? nullptr : field.centers[0].data();
+    const double* w = field.weights.data();
+    {
+        Scratch& q = scratch;
+#pragma omp simd
+        for (size_t j = 0; j < n; ++j) {
+            const double dx = x0.x() - c[3 * j], dy = x0.y() - c[3 * j + 1], dz = x0.z() - c[3 * j + 2];
+            const double r = std::sqrt(dx * dx + dy * dy + dz * dz);
+            const bool far = r >= nearRadius;
+            const double wFar = far ? w[j] : 0.0, rFar = far ? r : 1.0;
+            const double inv = 1.0 / rFar;
+            q.dx[j] = dx;
+            q.dy[j] = dy;
+            q.dz[j] = dz;
+            q.r[j] = r;
+            q.r3Weight[j] = w[j] * r * r * r;
+            q.rWeight[j] = w[j] * r;
+            q.hessianWeight[j] = r > 0 ? w[j] / r : 0.0;
+            q.farInvR[j] = wFar * inv;
+            q.farInvR3[j] = wFar * inv * inv * inv;
+            q.farInvR5[j] = wFar * inv * inv * inv * inv * inv;
+            const double gap = far ? r - s : 1.0;
+            q.remainder[j] = std::abs(wFar) / (gap * gap);
+            q.magnitude[j] = std::abs(w[j]) * (r + s) * (r + s) * (r + s);
         }
-        const Powers pw(d);
-        const double wr = w * r, w1 = w / r, w3 = w1 / (r * r), w5 = w3 / (r * r);
-        r3Sum += wr * r * r;
-        rSum += wr;
-        for (int n = 0; n < M; ++n) {
-            const auto& e = table.exponents[n];
-            const int degree = e[0] + e[1] + e[2];
-            const double m = pw.p[0][e[0]] * pw.p[1][e[1]] * pw.p[2][e[2]];
-            if (degree == 1) byR[n] += wr * m;
-            if (degree <= 2) byInvR[n] += w1 * m;
-            if (degree == 2 || degree == 3) byInvR3[n] += w3 * m;
-            if (degree == 4) byInvR5[n] += w5 * m;
-        }
-        remainderSum += std::abs(w) / ((r - s) * (r - s));
-        magnitudeSum += std::abs(w) * (r + s) * (r + s) * (r + s);
     }
+    for (size_t j = 0; j < n; ++j)
+        if (scratch.r[j] < nearRadius) {
+            const double r = scratch.r[j];
+            patch.near.push_back({field.centers[j], w[j], r, r > 0 ? 1.0 / r : 0.0});
+        }
+    constexpr int M = VariationalPatch::kMonomials;
+    TermSums sums;
+    sums.r3Sum = plainSum(scratch.r3Weight);
+    sums.rSum = plainSum(scratch.rWeight);
+    accumulateMonomials(scratch, sums, std::make_index_sequence<M>());
+    const double remainderSum = plainSum(scratch.remainder), magnitudeSum = plainSum(scratch.magnitude);
+    const double r3Sum = sums.r3Sum, rSum = sums.rSum;
+    const auto &byR = sums.byR, &byInvR = sums.byInvR, &byInvR3 = sums.byInvR3, &byInvR5 = sums.byInvR5;
 
     // Partial derivatives of sum w |x - c|^3 at x0 from those sums:
     //   d_i      = 3 w r d_i
     //   d_ij     = 3 (w r delta_ij + w d_i d_j / r)
     //   d_ijk    = 3 w (delta_ij d_k + delta_ik d_j + delta_jk d_i) / r - 3 w d_i d_j d_k / r^3
     //   d_ijkl   = 3 w (dd + dd + dd) / r - 3 w (delta d d, six ways) / r^3 + 9 w d_i d_j d_k d_l / r^5
-    for (int n = 0; n < M; ++n) {
+    for (int m = 0; m < M; ++m) {
+        const int n = m;
         const auto& e = table.exponents[n];
         int axes[4], k = 0;
         for (int axis = 0; axis < 3; ++axis)
@@ -163,38 +257,69 @@ std::optional<VariationalPatch> buildVariationalPatch(const VariationalField& fi
             axisBound[axis] += std::abs(patch.coefficients[n]) * m;
         }
     }
-    double nearGradient = 0.0;
-    for (const NearTerm& t : patch.near) {
-        const double r = (t.center - x0).norm() + s;
-        nearGradient += 3.0 * std::abs(t.weight) * r * r;
+    // A near term's correction w (|x - c|^3 - its quadratic Taylor
+    // polynomial) is at most |w| |h|^3, its gradient 3 |w| |h|^2 (|D^3 r^3| <= 6).
+    double nearWeight = 0.0;
+    for (const NearTerm& t : patch.near) nearWeight += std::abs(t.weight);
+    const double polynomialGradient =
+        std::sqrt(axisBound[0] * axisBound[0] + axisBound[1] * axisBound[1] + axisBound[2] * axisBound[2]);
+    patch.lipschitz = polynomialGradient + patch.gradientError + 3.0 * nearWeight * s * s;
+    double polynomialSpread = 0.0;
+    for (int m = 1; m < M; ++m) {
+        const auto& e = table.exponents[m];
+        polynomialSpread += std::abs(patch.coefficients[m]) * ph.p[0][e[0]] * ph.p[1][e[1]] * ph.p[2][e[2]];
     }
-    patch.lipschitz = std::sqrt(axisBound[0] * axisBound[0] + axisBound[1] * axisBound[1] +
-                                axisBound[2] * axisBound[2]) +
-                      patch.gradientError + nearGradient;
-    patch.holdsNoZero = std::abs(patch.value(x0)) > patch.lipschitz * s + patch.valueError;
+    const double spread = polynomialSpread + nearWeight * s * s * s + patch.valueError;
+    patch.range = {patch.coefficients[0] - spread, patch.coefficients[0] + spread};
+    patch.holdsNoZero = !patch.range.containsZero();
     return patch;
 }
 
-std::optional<VariationalPatchGrid> buildVariationalPatchGrid(const VariationalField& field, const Box3& box,
-                                                              double tolerance, int maxResolution) {
-    VariationalPatchGrid grid;
-    grid.box = box;
-    for (int resolution = 1;; resolution *= 2) {
-        grid.resolution = resolution;
-        grid.patches.clear();
-        const Vec3 cell = grid.cellExtent();
-        bool fineEnough = true;
-        for (int k = 0; k < resolution; ++k)
-            for (int j = 0; j < resolution; ++j)
-                for (int i = 0; i < resolution; ++i) {
-                    const Vec3 lower = box.lower + cell.cwiseProduct(Vec3(i, j, k));
-                    auto patch = buildVariationalPatch(field, Box3(lower, lower + cell));
-                    if (!patch) return std::nullopt;
-                    fineEnough = fineEnough && (patch->holdsNoZero || patch->valueError <= tolerance);
-                    grid.patches.push_back(std::move(*patch));
-                }
-        if (fineEnough || 2 * resolution > maxResolution) return grid;
+namespace {
+
+bool splitPatchNode(const VariationalField& field, VariationalPatchTree& tree, int32_t node, double tolerance,
+                    int depthLeft) {
+    const Box3 box = tree.nodes[node].box;
+    auto patch = buildVariationalPatch(field, box);
+    if (!patch) return false;
+    if (patch->holdsNoZero || patch->valueError <= tolerance || depthLeft == 0) {
+        tree.nodes[node].patch = static_cast<int32_t>(tree.patches.size());
+        tree.patches.push_back(std::move(*patch));
+        return true;
     }
+    const int32_t first = static_cast<int32_t>(tree.nodes.size());
+    tree.nodes[node].firstChild = first;
+    const Vec3 c = box.center();
+    for (int i = 0; i < 8; ++i)
+        tree.nodes.push_back({Box3(box.corner(i).cwiseMin(c), box.corner(i).cwiseMax(c)), -1, -1});
+    for (int i = 0; i < 8; ++i)
+        if (!splitPatchNode(field, tree, first + i, tolerance, depthLeft - 1)) return false;
+    return true;
+}
+
+}  // namespace
+
+std::optional<VariationalPatchTree> buildVariationalPatchTree(const VariationalField& field, const Box3& box,
+                                                              double tolerance, int maxDepth) {
+    VariationalPatchTree tree;
+    tree.nodes.push_back({box, -1, -1});
+    if (!splitPatchNode(field, tree, 0, tolerance, maxDepth)) return std::nullopt;
+    return tree;
+}
+
+const VariationalPatchTree::Node& VariationalPatchTree::leafAt(const Vec3& p, const Vec3& direction) const {
+    const Node* node = &nodes[0];
+    while (node->firstChild >= 0) {
+        const Vec3 c = node->box.center();
+        // Box3::corner(i) takes bit a of i as "upper along axis a".
+        int child = 0;
+        for (int a = 0; a < 3; ++a) {
+            const bool upper = p[a] > c[a] || (p[a] == c[a] && direction[a] > 0);
+            child |= upper ? 1 << a : 0;
+        }
+        node = &nodes[node->firstChild + child];
+    }
+    return *node;
 }
 
 namespace {
@@ -218,18 +343,27 @@ inline double polynomial(const std::array<double, VariationalPatch::kMonomials>&
 
 }  // namespace
 
+// w (|x - c|^3 - q(h)), q the quadratic Taylor polynomial of |x - c|^3 at
+// the expansion point x0 = x - h, with d0 = x0 - c, r0 = |d0|:
+//   q(h) = r0^3 + 3 r0 d0.h + 3/2 (r0 |h|^2 + (d0.h)^2 / r0).
+inline double nearCorrection(const NearTerm& t, const Vec3& x, const Vec3& h) {
+    const Vec3 d = x - t.center, d0 = d - h;
+    const double r = d.norm(), r0 = t.distance, dh = d0.dot(h);
+    const double q = r0 * r0 * r0 + 3.0 * r0 * dh + 1.5 * (r0 * h.squaredNorm() + dh * dh * t.inverseDistance);
+    return t.weight * (r * r * r - q);
+}
+
 double VariationalPatch::value(const Vec3& x) const {
-    double sum = polynomial(coefficients, x - expansionPoint);
-    for (const NearTerm& t : near) {
-        const double r = (x - t.center).norm();
-        sum += t.weight * r * r * r;
-    }
+    const Vec3 h = x - expansionPoint;
+    double sum = polynomial(coefficients, h);
+    for (const NearTerm& t : near) sum += nearCorrection(t, x, h);
     return sum;
 }
 
 double VariationalPatch::valueAndGradient(const Vec3& x, Vec3& gradient) const {
     const MonomialTable& table = monomials();
-    const Powers p(x - expansionPoint);
+    const Vec3 h = x - expansionPoint;
+    const Powers p(h);
     double sum = 0.0;
     Vec3 g = Vec3::Zero();
     for (int n = 0; n < kMonomials; ++n) {
@@ -241,10 +375,11 @@ double VariationalPatch::valueAndGradient(const Vec3& x, Vec3& gradient) const {
         if (e[2]) g.z() += c * e[2] * p.p[0][e[0]] * p.p[1][e[1]] * p.p[2][e[2] - 1];
     }
     for (const NearTerm& t : near) {
-        const Vec3 d = x - t.center;
-        const double r = d.norm();
-        sum += t.weight * r * r * r;
-        g += (3.0 * t.weight * r) * d;
+        sum += nearCorrection(t, x, h);
+        // grad q = 3 r0 d0 + 3 (r0 h + (d0.h) d0 / r0)
+        const Vec3 d = x - t.center, d0 = d - h;
+        const double r = d.norm(), r0 = t.distance;
+        g += t.weight * (3.0 * r * d - 3.0 * r0 * d0 - 3.0 * (r0 * h + d0.dot(h) * t.inverseDistance * d0));
     }
     gradient = g;
     return sum;

@@ -7,7 +7,9 @@
 //    terms whose centres lie at least nearFactor half-diagonals away. Its
 //    coefficients are exact sums over all those terms, so the cancellation
 //    between the fit's huge, oscillating weights stays inside them.
-//  - the near centres (a handful) are evaluated exactly;
+//  - the near centres (a handful) enter T to second order only, and the
+//    rest of each is evaluated exactly (their third derivative jumps at
+//    the centre, so no polynomial follows them further);
 //  - |e| <= valueError and |grad e| <= gradientError everywhere in the box.
 //    They come from the fifth directional derivative of r^3,
 //    |d^5/dt^5 |x + t u|^3| = 45 |a| (1 - a^2)^2 / r^2 <= 12.88 / r^2, summed
@@ -18,6 +20,7 @@
 #pragma once
 
 #include <array>
+#include <cstdint>
 #include <optional>
 #include <vector>
 
@@ -25,10 +28,14 @@
 
 namespace isotrace::geometry {
 
-/// One exactly evaluated term w |x - c|^3.
+/// A term w |x - c|^3 whose centre is too near the box for a Taylor
+/// polynomial: its quadratic part is in the polynomial, the rest is
+/// evaluated exactly.
 struct NearTerm {
     Vec3 center;
     double weight;
+    double distance;         ///< from the expansion point
+    double inverseDistance;  ///< 0 when the centre is the expansion point
 };
 
 struct VariationalPatch {
@@ -42,6 +49,7 @@ struct VariationalPatch {
     double valueError = 0.0;     ///< |f - model| over the box
     double gradientError = 0.0;  ///< |grad f - grad model| over the box
     double lipschitz = 0.0;      ///< |grad f| over the box
+    Interval range;              ///< of f over the box
     /// |f| > 0 everywhere in the box (the model at the centre minus the
     /// gradient bound times the half-diagonal and the error): rays skip it.
     bool holdsNoZero = false;
@@ -63,22 +71,25 @@ struct PatchOptions {
 std::optional<VariationalPatch> buildVariationalPatch(const VariationalField& field, const Box3& box,
                                                       const PatchOptions& options = {});
 
-/// A box split into resolution^3 equal cells with a model each, fine enough
-/// that every model's value error is at most the tolerance asked for (or
-/// the finest resolution allowed is reached).
-struct VariationalPatchGrid {
-    Box3 box;
-    int resolution = 1;
-    std::vector<VariationalPatch> patches;  ///< x fastest, then y, then z
+/// A box split as an octree until every leaf's model is exact to the
+/// tolerance asked for, proves the leaf free of surface, or the depth limit
+/// is reached. Leaves hold one model each.
+struct VariationalPatchTree {
+    struct Node {
+        Box3 box;
+        int32_t firstChild = -1;  ///< eight consecutive nodes, or -1 for a leaf
+        int32_t patch = -1;       ///< the leaf's model
+    };
+    std::vector<Node> nodes;  ///< nodes[0] is the root
+    std::vector<VariationalPatch> patches;
 
-    Vec3 cellExtent() const { return box.extent() / resolution; }
-    const VariationalPatch& at(int i, int j, int k) const {
-        return patches[size_t(i) + size_t(resolution) * (size_t(j) + size_t(resolution) * size_t(k))];
-    }
+    /// The leaf holding p; on a face between leaves, the one the direction
+    /// enters.
+    const Node& leafAt(const Vec3& p, const Vec3& direction) const;
 };
 
-/// Resolutions tried: 1, 2, 4 cells per axis. None for Hermite fields.
-std::optional<VariationalPatchGrid> buildVariationalPatchGrid(const VariationalField& field, const Box3& box,
-                                                              double tolerance, int maxResolution = 4);
+/// None for Hermite fields.
+std::optional<VariationalPatchTree> buildVariationalPatchTree(const VariationalField& field, const Box3& box,
+                                                              double tolerance, int maxDepth = 3);
 
 }  // namespace isotrace::geometry
