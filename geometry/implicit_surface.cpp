@@ -109,7 +109,7 @@ ImplicitSurface::ImplicitSurface(FieldProgram field, const ImplicitSurfaceOption
 }
 
 TraceResult ImplicitSurface::intersectCell(uint32_t index, const Vec3& origin, const Vec3& direction, double tNear,
-                                           double tFar) const {
+                                           double tFar, bool anyHit) const {
     const SurfaceCell& cell = cells_[index];
     double t0 = tNear, t1 = tFar;
     if (!clipRayToBox(cell.box, origin, direction, t0, t1)) return {};
@@ -122,7 +122,7 @@ TraceResult ImplicitSurface::intersectCell(uint32_t index, const Vec3& origin, c
         const Vec3 o = v.placement.leafFromWorld(origin);
         const Vec3 d = v.placement.identity ? direction : Vec3(v.placement.linear * direction);
         const PatchTraceResult p =
-            tracePatchTree(v.models, *v.field, o, d, t0, t1, settings_.epsilon / direction.norm());
+            tracePatchTree(v.models, *v.field, o, d, t0, t1, settings_.epsilon / direction.norm(), anyHit);
         counters.steps += p.steps + p.exactEvaluations;
         counters.evaluations += uint64_t(p.steps) * VariationalPatch::kMonomials +
                                 uint64_t(p.exactEvaluations) * v.field->termCount();

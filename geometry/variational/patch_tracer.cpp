@@ -38,10 +38,39 @@ double refineExactly(const VariationalField& field, const Vec3& origin, const Ve
     return 0.5 * (ta + tb);
 }
 
+// What one exact evaluation says about f near it: e = f - model is known
+// there, with its slope along the ray, and the model's gradient and Hessian
+// errors bound how fast that knowledge fades with distance. Valid within the
+// anchor's model's box only.
+struct Anchor {
+    const VariationalPatch* patch = nullptr;
+    double t = 0, value = 0;
+    double offset = 0, offsetSlope = 0;  // e and de/dt at the anchor
+    Vec3 gradient = Vec3::Zero();        // exact grad f at the anchor
+
+    // Raises (sign, margin) to what the anchor proves about f at t, where
+    // the model's value is `model`.
+    void certify(double t, double model, double speed, int& sign, double& margin) const {
+        const double dt = t - this->t, noise = patch->evaluationNoise;
+        const double firstOrder = model + offset, firstDrift = patch->gradientError * speed * std::abs(dt) + noise;
+        const double secondOrder = firstOrder + offsetSlope * dt,
+                     secondDrift = 0.5 * patch->hessianError * speed * speed * dt * dt + noise;
+        if (std::abs(firstOrder) - firstDrift > margin) {
+            sign = signOf(firstOrder);
+            margin = std::abs(firstOrder) - firstDrift;
+        }
+        if (std::abs(secondOrder) - secondDrift > margin) {
+            sign = signOf(secondOrder);
+            margin = std::abs(secondOrder) - secondDrift;
+        }
+    }
+};
+
 }  // namespace
 
 PatchTraceResult tracePatchTree(const VariationalPatchTree& tree, const VariationalField& field, const Vec3& origin,
-                                const Vec3& direction, double tStart, double tEnd, double minStep, int maxSteps) {
+                                const Vec3& direction, double tStart, double tEnd, double minStep, bool anyHit,
+                                int maxSteps) {
     PatchTraceResult result;
     const double speed = direction.norm();
     if (!(speed > 0) || !(tEnd >= tStart)) return result;
@@ -49,12 +78,7 @@ PatchTraceResult tracePatchTree(const VariationalPatchTree& tree, const Variatio
     int side = 0;                // sign of f on the part of the ray already cleared
     double tCleared = tStart;    // no root in [tStart, tCleared) ... up to t
     double fCleared = std::numeric_limits<double>::quiet_NaN();  // exact f at tCleared when known
-    // The anchor: exact value and gradient at tAnchor, and how far the
-    // anchor's model was off there.
-    const VariationalPatch* anchorPatch = nullptr;
-    double tAnchor = 0, anchorValue = 0, anchorOffset = 0;
-    Vec3 anchorGradient = Vec3::Zero();
-
+    Anchor anchor;
     auto exactAt = [&](double t, Vec3* gradient) {
         ++result.exactEvaluations;
         if (gradient) return field.valueAndGradient(origin + t * direction, *gradient);
@@ -99,7 +123,15 @@ PatchTraceResult tracePatchTree(const VariationalPatchTree& tree, const Variatio
             fCleared = std::numeric_limits<double>::quiet_NaN();
         } else {
             const double stepScale = 1.0 / (patch.lipschitz * speed);
-            const double driftRate = patch.gradientError * speed;
+            auto anchorAt = [&](double t, const Vec3& p) {
+                anchor.value = exactAt(t, &anchor.gradient);
+                Vec3 modelGradient;
+                const double model = patch.valueAndGradient(p, modelGradient);
+                anchor.patch = &patch;
+                anchor.t = t;
+                anchor.offset = anchor.value - model;
+                anchor.offsetSlope = (anchor.gradient - modelGradient).dot(direction);
+            };
             while (t <= cellEnd) {
                 if (++result.steps > maxSteps) {
                     result.complete = false;
@@ -108,31 +140,23 @@ PatchTraceResult tracePatchTree(const VariationalPatchTree& tree, const Variatio
                 }
                 const Vec3 p = origin + t * direction;
                 const double model = patch.value(p);
+                const bool anchoredHere = anchor.patch == &patch, atAnchor = anchoredHere && t == anchor.t;
                 // The sign f certainly has here, and how far |f| is from 0.
                 int sign = 0;
                 double margin = 0.0;
-                if (std::abs(model) > patch.valueError) {
-                    sign = signOf(model);
-                    margin = std::abs(model) - patch.valueError;
-                }
-                const bool anchoredHere = anchorPatch == &patch;
-                if (anchoredHere) {
-                    const double shifted = model + anchorOffset, drift = driftRate * std::abs(t - tAnchor);
-                    if (std::abs(shifted) - drift > margin) {
-                        sign = signOf(shifted);
-                        margin = std::abs(shifted) - drift;
+                if (atAnchor) {
+                    sign = signOf(anchor.value);
+                    margin = std::abs(anchor.value);
+                    if (sign == 0) return hitAt(t, anchor.gradient);  // f == 0 exactly
+                } else {
+                    if (std::abs(model) > patch.valueError) {
+                        sign = signOf(model);
+                        margin = std::abs(model) - patch.valueError;
                     }
-                }
-                if (t == tAnchor && anchoredHere) {  // the anchor itself: exact
-                    sign = signOf(anchorValue);
-                    margin = std::abs(anchorValue);
+                    if (anchoredHere) anchor.certify(t, model, speed, sign, margin);
                 }
                 if (sign == 0) {
-                    if (anchoredHere && t == tAnchor) return hitAt(t, anchorGradient);  // f == 0 exactly
-                    anchorValue = exactAt(t, &anchorGradient);
-                    anchorPatch = &patch;
-                    tAnchor = t;
-                    anchorOffset = anchorValue - model;
+                    anchorAt(t, p);
                     continue;
                 }
                 if (side == 0) side = sign;
@@ -141,11 +165,10 @@ PatchTraceResult tracePatchTree(const VariationalPatchTree& tree, const Variatio
                     if (!std::isnan(root)) return hitAt(root, result.gradient);
                     side = sign;
                 }
-                if (anchoredHere && t == tAnchor) fCleared = anchorValue;
                 const double step = margin * stepScale;
                 if (step >= minStep) {
                     tCleared = t;
-                    if (!(anchoredHere && t == tAnchor)) fCleared = std::numeric_limits<double>::quiet_NaN();
+                    fCleared = atAnchor ? anchor.value : std::numeric_limits<double>::quiet_NaN();
                     t = std::min(t + step, cellEnd);
                     if (t == cellEnd) break;
                     continue;
@@ -153,30 +176,30 @@ PatchTraceResult tracePatchTree(const VariationalPatchTree& tree, const Variatio
                 // Stalled within resolution of the surface (or grazing it).
                 // Newton from the anchor, accepted when the cleared part of
                 // the ray reaches within two steps of the predicted root and
-                // the shifted model proves f has changed sign just beyond it.
+                // the anchor proves f has changed sign just beyond it.
                 if (anchoredHere) {
-                    const double slope = anchorGradient.dot(direction);
+                    const double slope = anchor.gradient.dot(direction);
                     if (side * slope < 0) {
-                        const double tNewton = tAnchor - anchorValue / slope;
+                        const double tNewton = anchor.t - anchor.value / slope;
                         const double beyond = tNewton + std::max(tNewton - t, minStep);
-                        if (tNewton >= t - minStep && tNewton - t <= 2 * minStep && beyond <= cellEnd) {
-                            const double shifted = patch.value(origin + beyond * direction) + anchorOffset;
-                            if (-side * shifted > driftRate * (beyond - tAnchor))
-                                return hitAt(std::max(tNewton, tStart), anchorGradient);
+                        const bool closeEnough = anyHit || tNewton - t <= 2 * minStep;
+                        if (tNewton >= t - minStep && closeEnough && beyond <= cellEnd) {
+                            int signBeyond = 0;
+                            double marginBeyond = 0.0;
+                            anchor.certify(beyond, patch.value(origin + beyond * direction), speed, signBeyond,
+                                           marginBeyond);
+                            if (signBeyond == -side) return hitAt(std::max(tNewton, tStart), anchor.gradient);
                         }
                     }
                 }
-                if (!(anchoredHere && t == tAnchor)) {
-                    anchorValue = exactAt(t, &anchorGradient);
-                    anchorPatch = &patch;
-                    tAnchor = t;
-                    anchorOffset = anchorValue - model;
+                if (!atAnchor) {
+                    anchorAt(t, p);
                     continue;
                 }
                 // Anchored right here and still no room: a forced step,
                 // which may skip a sliver thinner than minStep.
                 tCleared = t;
-                fCleared = anchorValue;
+                fCleared = anchor.value;
                 if (t + minStep >= tEnd) {
                     // The segment's end: no later cell of this ray will see
                     // the sign there, so look now.

@@ -240,8 +240,8 @@ std::optional<VariationalPatch> buildVariationalPatch(const VariationalField& fi
     const double unitRoundoff = std::numeric_limits<double>::epsilon() / 2;
     const double rounding = 16.0 * double(field.centers.size() + M) * unitRoundoff * magnitudeSum;
     const double s4 = s * s * s * s;
-    patch.valueError = kFifthDerivative / 120.0 * s4 * s * remainderSum + rounding;
     patch.gradientError = kFifthDerivative / 24.0 * s4 * remainderSum + 4.0 * rounding / std::max(s, 1e-300);
+    patch.hessianError = kFifthDerivative / 6.0 * s * s * s * remainderSum + 12.0 * rounding / std::max(s * s, 1e-300);
 
     // |grad f| over the box: each monomial's gradient bounded by the box's
     // half extents, then the error and the near terms.
@@ -269,6 +269,12 @@ std::optional<VariationalPatch> buildVariationalPatch(const VariationalField& fi
         const auto& e = table.exponents[m];
         polynomialSpread += std::abs(patch.coefficients[m]) * ph.p[0][e[0]] * ph.p[1][e[1]] * ph.p[2][e[2]];
     }
+    // Evaluating the model rounds each of its terms; a near term's two
+    // parts are each at most |w| (r0 + s)^3.
+    double nearMagnitude = 0.0;
+    for (const NearTerm& t : patch.near) nearMagnitude += std::abs(t.weight) * std::pow(t.distance + s, 3);
+    patch.evaluationNoise = 64.0 * unitRoundoff * (std::abs(patch.coefficients[0]) + polynomialSpread + 2.0 * nearMagnitude);
+    patch.valueError = kFifthDerivative / 120.0 * s4 * s * remainderSum + rounding + patch.evaluationNoise;
     const double spread = polynomialSpread + nearWeight * s * s * s + patch.valueError;
     patch.range = {patch.coefficients[0] - spread, patch.coefficients[0] + spread};
     patch.holdsNoZero = !patch.range.containsZero();

@@ -48,6 +48,10 @@ struct VariationalPatch {
     std::vector<NearTerm> near;
     double valueError = 0.0;     ///< |f - model| over the box
     double gradientError = 0.0;  ///< |grad f - grad model| over the box
+    double hessianError = 0.0;   ///< ||D^2 f - D^2 model|| over the box
+    /// Rounding in evaluating the model (included in valueError; the tracer
+    /// adds it to the bounds it derives from the other two).
+    double evaluationNoise = 0.0;
     double lipschitz = 0.0;      ///< |grad f| over the box
     Interval range;              ///< of f over the box
     /// |f| > 0 everywhere in the box (the model at the centre minus the
