@@ -63,7 +63,9 @@ ImplicitSurface::ImplicitSurface(FieldProgram field, const ImplicitSurfaceOption
         bool keep = false;
         SurfaceCell cell;
         FieldProgram program;
-        std::optional<VariationalCell> variational;
+        std::shared_ptr<const VariationalPatchTree> models;
+        std::vector<int32_t> modelLeaves;
+        const VariationalLeafField* variational = nullptr;
     };
     std::vector<Built> built(level.size());
     const double patchTolerance = options.patchRelativeTolerance * diagonal;
@@ -85,14 +87,11 @@ ImplicitSurface::ImplicitSurface(FieldProgram field, const ImplicitSurfaceOption
             auto models = buildVariationalPatchTree(*variational->field, leafBox,
                                                     patchTolerance / leaf->placement.valueScale);
             if (models) {
+                b.modelLeaves = models->leavesThatMayHoldSurface();
+                b.models = std::make_shared<const VariationalPatchTree>(std::move(*models));
+                b.variational = variational;
                 // A cell its models prove empty is no cell at all.
-                bool empty = true;
-                for (const VariationalPatch& patch : models->patches) empty = empty && patch.holdsNoZero;
-                if (empty) {
-                    b.keep = false;
-                    return;
-                }
-                b.variational = VariationalCell{std::move(*models), variational->field.get(), leaf->placement};
+                b.keep = !b.modelLeaves.empty();
             }
         }
     });
@@ -100,11 +99,26 @@ ImplicitSurface::ImplicitSurface(FieldProgram field, const ImplicitSurfaceOption
         if (!b.keep) continue;
         b.cell.program = static_cast<uint32_t>(programs_.size());
         programs_.push_back(std::move(b.program));
-        if (b.variational) {
-            b.cell.variational = static_cast<int32_t>(variationalCells_.size());
-            variationalCells_.push_back(std::move(*b.variational));
+        if (!b.models) {
+            cells_.push_back(b.cell);
+            continue;
         }
-        cells_.push_back(b.cell);
+        const LeafPlacement& placement = programs_.back().singleLeaf()->placement;
+        for (int32_t node : b.modelLeaves) {
+            SurfaceCell cell = b.cell;
+            const Box3& leafBox = b.models->nodes[node].box;
+            if (placement.identity) {
+                cell.box = leafBox;
+            } else {
+                // The world box around the model leaf, within the octree cell.
+                const Mat3 worldFromLeaf = placement.linear.inverse();
+                const Box3 around = transformBox(worldFromLeaf, -(worldFromLeaf * placement.offset), leafBox);
+                cell.box = Box3(around.lower.cwiseMax(b.cell.box.lower), around.upper.cwiseMin(b.cell.box.upper));
+            }
+            cell.variational = static_cast<int32_t>(variationalCells_.size());
+            variationalCells_.push_back({b.models, node, b.variational->field.get(), placement});
+            cells_.push_back(cell);
+        }
     }
 }
 
@@ -121,8 +135,10 @@ TraceResult ImplicitSurface::intersectCell(uint32_t index, const Vec3& origin, c
         const VariationalCell& v = variationalCells_[cell.variational];
         const Vec3 o = v.placement.leafFromWorld(origin);
         const Vec3 d = v.placement.identity ? direction : Vec3(v.placement.linear * direction);
-        const PatchTraceResult p =
-            tracePatchTree(v.models, *v.field, o, d, t0, t1, settings_.epsilon / direction.norm(), anyHit);
+        // The models hold inside their own box only.
+        if (!v.placement.identity && !clipRayToBox(v.models->nodes[v.node].box, o, d, t0, t1)) return {};
+        const PatchTraceResult p = tracePatchTree(*v.models, v.node, *v.field, o, d, t0, t1,
+                                                  settings_.epsilon / direction.norm(), anyHit);
         counters.steps += p.steps + p.exactEvaluations;
         counters.evaluations += uint64_t(p.steps) * VariationalPatch::kMonomials +
                                 uint64_t(p.exactEvaluations) * v.field->termCount();

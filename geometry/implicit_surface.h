@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "field_program.h"
@@ -36,10 +37,13 @@ struct SurfaceCell {
     int32_t variational = -1;  ///< index of its local models, or -1
 };
 
-/// A cell whose program is one variational leaf: the leaf's models over
-/// the cell (in the leaf's frame) and how to reach that frame.
+/// A cell whose program is one variational leaf: one leaf of the models
+/// built for the octree cell it came from (in the leaf's frame), and how to
+/// reach that frame. Each such model leaf that may hold surface is a cell of
+/// its own, so Embree's BVH skips the empty ones.
 struct VariationalCell {
-    VariationalPatchTree models;
+    std::shared_ptr<const VariationalPatchTree> models;
+    int32_t node = 0;
     const VariationalField* field = nullptr;  ///< owned by the cell's program
     LeafPlacement placement;
 };

@@ -1,7 +1,5 @@
 #include "patch_tracer.h"
 
-#include "geometry/sphere_tracer.h"
-
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -68,9 +66,9 @@ struct Anchor {
 
 }  // namespace
 
-PatchTraceResult tracePatchTree(const VariationalPatchTree& tree, const VariationalField& field, const Vec3& origin,
-                                const Vec3& direction, double tStart, double tEnd, double minStep, bool anyHit,
-                                int maxSteps) {
+PatchTraceResult tracePatchTree(const VariationalPatchTree& tree, int32_t node, const VariationalField& field,
+                                const Vec3& origin, const Vec3& direction, double tStart, double tEnd,
+                                double minStep, bool anyHit, int maxSteps) {
     PatchTraceResult result;
     const double speed = direction.norm();
     if (!(speed > 0) || !(tEnd >= tStart)) return result;
@@ -102,17 +100,21 @@ PatchTraceResult tracePatchTree(const VariationalPatchTree& tree, const Variatio
         return root;
     };
 
+    const Vec3 inverseDirection = direction.cwiseInverse();
     double t = tStart;
     for (;;) {
         // The leaf the ray is in, and where it leaves it.
-        const VariationalPatchTree::Node& leaf = tree.leafAt(origin + t * direction, direction);
-        double tEnter = -std::numeric_limits<double>::infinity(), tExit = std::numeric_limits<double>::infinity();
-        clipRayToBox(leaf.box, origin, direction, tEnter, tExit);
+        const VariationalPatchTree::Node& leaf = tree.leafAt(origin + t * direction, direction, node);
+        double tExit = std::numeric_limits<double>::infinity();
+        for (int a = 0; a < 3; ++a)
+            if (direction[a] != 0)
+                tExit = std::min(tExit, ((direction[a] > 0 ? leaf.box.upper[a] : leaf.box.lower[a]) - origin[a]) *
+                                            inverseDirection[a]);
         // Rounding can put a point a hair outside the leaf it was assigned.
         const double cellEnd = std::min(std::max(tExit, t), tEnd);
         const VariationalPatch& patch = tree.patches[leaf.patch];
         if (patch.holdsNoZero) {
-            const int s = signOf(patch.value(patch.expansionPoint));
+            const int s = patch.range.lo > 0 ? 1 : -1;
             if (side == 0) side = s;
             else if (s != side) {
                 // Only rounding at a cell face can get here.
@@ -215,7 +217,7 @@ PatchTraceResult tracePatchTree(const VariationalPatchTree& tree, const Variatio
         // Step onto the next leaf. When rounding puts the point back in the
         // same leaf, nudge it on by a negligible fraction of a step.
         t = std::max(t, cellEnd);
-        if (&tree.leafAt(origin + t * direction, direction) == &leaf) t += 1e-3 * minStep;
+        if (&tree.leafAt(origin + t * direction, direction, node) == &leaf) t += 1e-3 * minStep;
     }
 }
 

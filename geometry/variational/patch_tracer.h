@@ -29,13 +29,13 @@ struct PatchTraceResult {
 };
 
 /// First root of `field` along origin + t direction for t in [tStart, tEnd],
-/// a segment inside the tree's root box. Marching never skips a piece of surface
+/// a segment inside the box of the tree's node `node`. Marching never skips a piece of surface
 /// thinner than minStep (in t) along the ray, and brackets the hit to a
 /// few minSteps before the Newton step. With anyHit (shadow rays) any
 /// proven crossing will do: the march stops at the first anchor that proves
 /// one, without closing in on it.
-PatchTraceResult tracePatchTree(const VariationalPatchTree& tree, const VariationalField& field, const Vec3& origin,
-                                const Vec3& direction, double tStart, double tEnd, double minStep,
-                                bool anyHit = false, int maxSteps = 4000);
+PatchTraceResult tracePatchTree(const VariationalPatchTree& tree, int32_t node, const VariationalField& field,
+                                const Vec3& origin, const Vec3& direction, double tStart, double tEnd,
+                                double minStep, bool anyHit = false, int maxSteps = 4000);
 
 }  // namespace isotrace::geometry

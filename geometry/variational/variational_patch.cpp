@@ -313,8 +313,16 @@ std::optional<VariationalPatchTree> buildVariationalPatchTree(const VariationalF
     return tree;
 }
 
-const VariationalPatchTree::Node& VariationalPatchTree::leafAt(const Vec3& p, const Vec3& direction) const {
-    const Node* node = &nodes[0];
+std::vector<int32_t> VariationalPatchTree::leavesThatMayHoldSurface() const {
+    std::vector<int32_t> leaves;
+    for (size_t i = 0; i < nodes.size(); ++i)
+        if (nodes[i].firstChild < 0 && !patches[nodes[i].patch].holdsNoZero) leaves.push_back(int32_t(i));
+    return leaves;
+}
+
+const VariationalPatchTree::Node& VariationalPatchTree::leafAt(const Vec3& p, const Vec3& direction,
+                                                               int32_t start) const {
+    const Node* node = &nodes[start];
     while (node->firstChild >= 0) {
         const Vec3 c = node->box.center();
         // Box3::corner(i) takes bit a of i as "upper along axis a".

@@ -87,9 +87,11 @@ struct VariationalPatchTree {
     std::vector<Node> nodes;  ///< nodes[0] is the root
     std::vector<VariationalPatch> patches;
 
-    /// The leaf holding p; on a face between leaves, the one the direction
-    /// enters.
-    const Node& leafAt(const Vec3& p, const Vec3& direction) const;
+    /// The leaf below `node` holding p; on a face between leaves, the one
+    /// the direction enters.
+    const Node& leafAt(const Vec3& p, const Vec3& direction, int32_t node = 0) const;
+    /// The leaves whose models do not prove them free of surface.
+    std::vector<int32_t> leavesThatMayHoldSurface() const;
 };
 
 /// None for Hermite fields.
