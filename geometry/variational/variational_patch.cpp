@@ -284,8 +284,24 @@ std::optional<VariationalPatch> buildVariationalPatch(const VariationalField& fi
 namespace {
 
 bool splitPatchNode(const VariationalField& field, VariationalPatchTree& tree, int32_t node, double tolerance,
-                    int depthLeft) {
+                    int depthLeft, const VariationalPatch* parent) {
     const Box3 box = tree.nodes[node].box;
+    // The parent's model may already prove this box empty: a leaf with
+    // just that range, no model of its own (no ray is traced through it).
+    if (parent) {
+        const double centre = parent->value(box.center());
+        const double spread = parent->lipschitz * box.halfDiagonal() + parent->valueError;
+        if (std::abs(centre) > spread) {
+            VariationalPatch empty;
+            empty.box = box;
+            empty.expansionPoint = box.center();
+            empty.range = {centre - spread, centre + spread};
+            empty.holdsNoZero = true;
+            tree.nodes[node].patch = static_cast<int32_t>(tree.patches.size());
+            tree.patches.push_back(std::move(empty));
+            return true;
+        }
+    }
     auto patch = buildVariationalPatch(field, box);
     if (!patch) return false;
     if (patch->holdsNoZero || patch->valueError <= tolerance || depthLeft == 0) {
@@ -299,7 +315,7 @@ bool splitPatchNode(const VariationalField& field, VariationalPatchTree& tree, i
     for (int i = 0; i < 8; ++i)
         tree.nodes.push_back({Box3(box.corner(i).cwiseMin(c), box.corner(i).cwiseMax(c)), -1, -1});
     for (int i = 0; i < 8; ++i)
-        if (!splitPatchNode(field, tree, first + i, tolerance, depthLeft - 1)) return false;
+        if (!splitPatchNode(field, tree, first + i, tolerance, depthLeft - 1, &*patch)) return false;
     return true;
 }
 
@@ -309,7 +325,7 @@ std::optional<VariationalPatchTree> buildVariationalPatchTree(const VariationalF
                                                               double tolerance, int maxDepth) {
     VariationalPatchTree tree;
     tree.nodes.push_back({box, -1, -1});
-    if (!splitPatchNode(field, tree, 0, tolerance, maxDepth)) return std::nullopt;
+    if (!splitPatchNode(field, tree, 0, tolerance, maxDepth, nullptr)) return std::nullopt;
     return tree;
 }
 
