@@ -123,7 +123,7 @@ ImplicitSurface::ImplicitSurface(FieldProgram field, const ImplicitSurfaceOption
 }
 
 TraceResult ImplicitSurface::intersectCell(uint32_t index, const Vec3& origin, const Vec3& direction, double tNear,
-                                           double tFar, bool anyHit) const {
+                                           double tFar) const {
     const SurfaceCell& cell = cells_[index];
     double t0 = tNear, t1 = tFar;
     if (!clipRayToBox(cell.box, origin, direction, t0, t1)) return {};
@@ -138,7 +138,7 @@ TraceResult ImplicitSurface::intersectCell(uint32_t index, const Vec3& origin, c
         // The models hold inside their own box only.
         if (!v.placement.identity && !clipRayToBox(v.models->nodes[v.node].box, o, d, t0, t1)) return {};
         const PatchTraceResult p = tracePatchTree(*v.models, v.node, *v.field, o, d, t0, t1,
-                                                  settings_.epsilon / direction.norm(), anyHit);
+                                                  settings_.epsilon / direction.norm());
         counters.steps += p.steps + p.exactEvaluations;
         counters.evaluations += uint64_t(p.steps) * VariationalPatch::kMonomials +
                                 uint64_t(p.exactEvaluations) * v.field->termCount();

@@ -69,9 +69,8 @@ public:
     size_t variationalCellCount() const { return variationalCells_.size(); }
 
     /// Nearest hit in one cell for t in (tNear, tFar); counts its work.
-    /// With anyHit (occlusion) any hit in the interval will do.
-    TraceResult intersectCell(uint32_t cell, const Vec3& origin, const Vec3& direction, double tNear, double tFar,
-                              bool anyHit = false) const;
+    TraceResult intersectCell(uint32_t cell, const Vec3& origin, const Vec3& direction, double tNear,
+                              double tFar) const;
     /// Nearest hit over all cells without Embree (tests, tools): a linear scan.
     TraceResult intersect(const Vec3& origin, const Vec3& direction, double tNear, double tFar) const;
     /// Unit outward normal (normalised field gradient) at a point near the surface.

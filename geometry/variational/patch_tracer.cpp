@@ -68,7 +68,7 @@ struct Anchor {
 
 PatchTraceResult tracePatchTree(const VariationalPatchTree& tree, int32_t node, const VariationalField& field,
                                 const Vec3& origin, const Vec3& direction, double tStart, double tEnd,
-                                double minStep, bool anyHit, int maxSteps) {
+                                double minStep, int maxSteps) {
     PatchTraceResult result;
     const double speed = direction.norm();
     if (!(speed > 0) || !(tEnd >= tStart)) return result;
@@ -175,42 +175,40 @@ PatchTraceResult tracePatchTree(const VariationalPatchTree& tree, int32_t node, 
                     if (t == cellEnd) break;
                     continue;
                 }
-                // Stalled within resolution of the surface (or grazing it).
-                // Newton from the anchor, accepted when the cleared part of
-                // the ray reaches within two steps of the predicted root and
-                // the anchor proves f has changed sign just beyond it.
-                if (anchoredHere) {
-                    const double slope = anchor.gradient.dot(direction);
-                    if (side * slope < 0) {
-                        const double tNewton = anchor.t - anchor.value / slope;
-                        const double beyond = tNewton + std::max(tNewton - t, minStep);
-                        const bool closeEnough = anyHit || tNewton - t <= 2 * minStep;
-                        if (tNewton >= t - minStep && closeEnough && beyond <= cellEnd) {
-                            int signBeyond = 0;
-                            double marginBeyond = 0.0;
-                            anchor.certify(beyond, patch.value(origin + beyond * direction), speed, signBeyond,
-                                           marginBeyond);
-                            if (signBeyond == -side) return hitAt(std::max(tNewton, tStart), anchor.gradient);
-                        }
-                    }
-                }
-                if (!atAnchor) {
+                // Stalled within resolution of the surface (or grazing it):
+                // a forced step of minStep, which may skip a sliver thinner
+                // than that, as the general sphere tracer's does. The anchor
+                // (made here if there is none) tells the sign at its end.
+                if (!anchoredHere) {
                     anchorAt(t, p);
                     continue;
                 }
-                // Anchored right here and still no room: a forced step,
-                // which may skip a sliver thinner than minStep.
+                const double tForced = std::min(t + minStep, tEnd);
                 tCleared = t;
-                fCleared = anchor.value;
-                if (t + minStep >= tEnd) {
-                    // The segment's end: no later cell of this ray will see
-                    // the sign there, so look now.
-                    const double root = refineBracket(tEnd);
-                    if (!std::isnan(root)) return hitAt(root, result.gradient);
-                    return result;
+                fCleared = atAnchor ? anchor.value : std::numeric_limits<double>::quiet_NaN();
+                if (tForced > cellEnd) {  // past the anchor's box: the next leaf looks
+                    t = cellEnd;
+                    break;
                 }
-                t = std::min(t + minStep, cellEnd);
-                if (t == cellEnd) break;
+                const Vec3 q = origin + tForced * direction;
+                const double forcedModel = patch.value(q);
+                int forcedSign = 0;
+                double forcedMargin = 0.0;
+                if (std::abs(forcedModel) > patch.valueError) {
+                    forcedSign = signOf(forcedModel);
+                    forcedMargin = std::abs(forcedModel) - patch.valueError;
+                }
+                anchor.certify(tForced, forcedModel, speed, forcedSign, forcedMargin);
+                if (forcedSign == -side) {
+                    // The root is in [t, tForced]: Newton from the anchor
+                    // (quadratic, the anchor is within resolution of it).
+                    const double slope = anchor.gradient.dot(direction);
+                    const double tNewton = slope != 0 ? anchor.t - anchor.value / slope : t;
+                    return hitAt(std::clamp(tNewton, t, tForced), anchor.gradient);
+                }
+                t = tForced;
+                if (forcedSign == 0) anchorAt(t, q);
+                else if (t >= tEnd) return result;
             }
         }
         if (cellEnd >= tEnd) return result;

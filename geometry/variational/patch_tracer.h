@@ -7,10 +7,11 @@
 // the sign; there the exact field is evaluated once (an "anchor"), and
 // because the gradient of f - model is at most g (the gradient error) the
 // model shifted by the anchor's exact difference is within g times the
-// distance from the anchor: the steps go on, cheaply, to within about
-// g / |f'| of the remaining distance. A second anchor there brackets the
-// root to the distance resolution, and a Newton step from it (with the
-// exact gradient it brought) gives the hit.
+// distance from the anchor, and with the anchor's exact gradient the
+// drift shrinks to the Hessian error times the distance squared: the steps
+// go on, cheaply, to within the distance resolution of the surface, where
+// the model proves the sign change within one forced step and a Newton
+// step from the anchor (with the exact gradient it brought) gives the hit.
 #pragma once
 
 #include "geometry/variational/variational_patch.h"
@@ -31,11 +32,9 @@ struct PatchTraceResult {
 /// First root of `field` along origin + t direction for t in [tStart, tEnd],
 /// a segment inside the box of the tree's node `node`. Marching never skips a piece of surface
 /// thinner than minStep (in t) along the ray, and brackets the hit to a
-/// few minSteps before the Newton step. With anyHit (shadow rays) any
-/// proven crossing will do: the march stops at the first anchor that proves
-/// one, without closing in on it.
+/// step of minStep before the Newton step.
 PatchTraceResult tracePatchTree(const VariationalPatchTree& tree, int32_t node, const VariationalField& field,
                                 const Vec3& origin, const Vec3& direction, double tStart, double tEnd,
-                                double minStep, bool anyHit = false, int maxSteps = 4000);
+                                double minStep, int maxSteps = 4000);
 
 }  // namespace isotrace::geometry
