@@ -1,5 +1,7 @@
 #include "sphere_tracer.h"
 
+#include "bracketed_root.h"
+
 #include <cmath>
 #include <limits>
 
@@ -27,28 +29,8 @@ bool clipRayToBox(const Box3& box, const Vec3& origin, const Vec3& direction, do
 
 double refineRoot(const FieldProgram& field, const Vec3& origin, const Vec3& direction, double ta, double fa,
                   double tb, double fb, double tolerance, int* evaluations) {
-    // Illinois variant of regula falsi: superlinear on smooth crossings,
-    // never leaves the bracket, falls back to bisection when it stalls.
-    int side = 0;
-    for (int i = 0; i < 100 && tb - ta > tolerance; ++i) {
-        double t = (ta * fb - tb * fa) / (fb - fa);
-        if (!(t > ta && t < tb)) t = 0.5 * (ta + tb);
-        const double f = field.value(origin + t * direction);
-        if (evaluations) ++*evaluations;
-        if (f == 0.0) return t;
-        if (differentSigns(f, fa)) {
-            tb = t;
-            fb = f;
-            if (side == -1) fa *= 0.5;
-            side = -1;
-        } else {
-            ta = t;
-            fa = f;
-            if (side == 1) fb *= 0.5;
-            side = 1;
-        }
-    }
-    return 0.5 * (ta + tb);
+    return bracketedRoot([&](double t) { return field.value(origin + t * direction); }, ta, fa, tb, fb, tolerance,
+                         evaluations);
 }
 
 TraceResult sphereTrace(const FieldProgram& field, double lipschitz, const Vec3& origin, const Vec3& direction,

@@ -1,5 +1,7 @@
 #include "patch_tracer.h"
 
+#include "geometry/bracketed_root.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -9,32 +11,6 @@ namespace isotrace::geometry {
 namespace {
 
 inline int signOf(double v) { return (v > 0) - (v < 0); }
-
-// Illinois regula falsi on the exact field between ta (value fa) and tb
-// (value fb) of opposite signs.
-double refineExactly(const VariationalField& field, const Vec3& origin, const Vec3& direction, double ta, double fa,
-                     double tb, double fb, double tolerance, int& evaluations) {
-    int lastSide = 0;
-    for (int i = 0; i < 100 && tb - ta > tolerance; ++i) {
-        double t = (ta * fb - tb * fa) / (fb - fa);
-        if (!(t > ta && t < tb)) t = 0.5 * (ta + tb);
-        const double f = field.value(origin + t * direction);
-        ++evaluations;
-        if (f == 0.0) return t;
-        if (signOf(f) == signOf(fa)) {
-            ta = t;
-            fa = f;
-            if (lastSide == 1) fb *= 0.5;
-            lastSide = 1;
-        } else {
-            tb = t;
-            fb = f;
-            if (lastSide == -1) fa *= 0.5;
-            lastSide = -1;
-        }
-    }
-    return 0.5 * (ta + tb);
-}
 
 // What one exact evaluation says about f near it: e = f - model is known
 // there, with its slope along the ray, and the model's gradient and Hessian
@@ -94,8 +70,8 @@ PatchTraceResult tracePatchTree(const VariationalPatchTree& tree, int32_t node, 
         const double fa = std::isnan(fCleared) ? exactAt(tCleared, nullptr) : fCleared;
         const double fb = exactAt(t, nullptr);
         if (signOf(fa) == signOf(fb)) return std::numeric_limits<double>::quiet_NaN();  // rounding; go on
-        const double root =
-            refineExactly(field, origin, direction, tCleared, fa, t, fb, 1e-3 * minStep, result.exactEvaluations);
+        const double root = bracketedRoot([&](double u) { return field.value(origin + u * direction); }, tCleared, fa,
+                                          t, fb, 1e-3 * minStep, &result.exactEvaluations);
         exactAt(root, &result.gradient);
         return root;
     };

@@ -9,31 +9,17 @@
 #include "geometry/implicit_surface.h"
 #include "support/embree_scene.h"
 #include "support/field_catalog.h"
+#include "support/random_rays.h"
 
 using namespace isotrace::geometry;
 using isotrace::testing::CatalogEntry;
 using isotrace::testing::compileCatalogEntry;
 using isotrace::testing::EmbreeScene;
 using isotrace::testing::fieldCatalog;
+using isotrace::testing::RandomRay;
+using isotrace::testing::randomRayAt;
 
 namespace {
-
-struct RandomRay {
-    Vec3 origin, direction;
-};
-
-// Rays from a sphere around the bounds towards random points inside them.
-RandomRay randomRayAt(const Box3& bounds, std::mt19937_64& rng) {
-    std::uniform_real_distribution<double> u(0.0, 1.0);
-    std::normal_distribution<double> n;
-    const double radius = 2.0 * bounds.halfDiagonal();
-    const Vec3 origin = bounds.center() + radius * Vec3(n(rng), n(rng), n(rng)).normalized();
-    const Vec3 target = bounds.lower + Vec3(u(rng), u(rng), u(rng)).cwiseProduct(bounds.extent());
-    // Round to float as Embree will, so both intersectors see the same ray.
-    const Vec3 o = origin.cast<float>().cast<double>();
-    const Vec3 d = (target - origin).normalized().cast<float>().cast<double>();
-    return {o, d};
-}
 
 std::optional<double> sphereHit(const Vec3& o, const Vec3& d, const Vec3& c, double r) {
     const Vec3 oc = o - c;

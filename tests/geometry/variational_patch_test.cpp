@@ -13,6 +13,7 @@
 #include "geometry/implicit_surface.h"
 #include "geometry/variational/variational_patch.h"
 #include "support/embree_scene.h"
+#include "support/random_rays.h"
 
 using namespace isotrace::geometry;
 
@@ -115,20 +116,6 @@ TEST(VariationalPatch, HermiteFieldsHaveNone) {
 
 namespace {
 
-struct TracedRay {
-    Vec3 origin, direction;
-};
-
-// Rays from a sphere around the bounds towards random points inside them,
-// rounded to float as Embree will.
-TracedRay rayTowards(const Box3& bounds, std::mt19937& rng) {
-    std::uniform_real_distribution<double> u(0.0, 1.0);
-    std::normal_distribution<double> n;
-    const Vec3 origin = bounds.center() + 2.0 * bounds.halfDiagonal() * Vec3(n(rng), n(rng), n(rng)).normalized();
-    const Vec3 target = randomPointIn(bounds, rng);
-    return {origin.cast<float>().cast<double>(), (target - origin).normalized().cast<float>().cast<double>()};
-}
-
 // The hand traced through its models and by exact marching (the fields'
 // general sphere tracer with its O(N) safe radius) must agree on every ray,
 // primary and secondary (starting on the surface, as bounce rays do).
@@ -148,7 +135,7 @@ void expectSameHits(const FieldProgram& program, int rays) {
     std::normal_distribution<double> n;
     int hits = 0, secondaryHits = 0;
     for (int i = 0; i < rays; ++i) {
-        const TracedRay ray = rayTowards(fast.bounds(), rng);
+        const auto ray = isotrace::testing::randomRayAt(fast.bounds(), rng);
         const auto a = fastScene.intersect(ray.origin, ray.direction), b = exactScene.intersect(ray.origin, ray.direction);
         ASSERT_EQ(a.hit, b.hit) << "ray " << i;
         if (!a.hit) continue;
