@@ -7,6 +7,8 @@
 #include <limits>
 #include <sstream>
 
+#include <tbb/task_arena.h>
+
 #include "geometry/content_hash.h"
 #include "geometry/field_parser.h"
 #include "geometry/input_error.h"
@@ -91,7 +93,11 @@ int runRender(const RenderCommand& cmd) {
         cmd.output.empty() ? std::filesystem::path(cmd.scene).stem().string() + ".exr" : cmd.output;
     checkOutputFolder(output);
 
-    std::unique_ptr<Scene> scene = loadScene(cmd.scene, overrides);
+    // Loading builds surface cells and variational models in parallel: it
+    // keeps to the same thread count as rendering.
+    std::unique_ptr<Scene> scene;
+    tbb::task_arena arena(cmd.threads > 0 ? cmd.threads : tbb::task_arena::automatic);
+    arena.execute([&] { scene = loadScene(cmd.scene, overrides); });
     for (const std::string& w : scene->warnings) std::fprintf(stderr, "warning: %s: %s\n", cmd.scene.c_str(), w.c_str());
     RenderOptions options;
     options.crop = requestedWindow(cmd, scene->film.width, scene->film.height);
@@ -263,7 +269,7 @@ int main(int argc, char** argv) {
     renderApp->add_option("scene", render.scene, "Scene file (JSON)")->required();
     renderApp->add_option("-o,--output", render.output, "Output image (default: the scene's name with .exr)");
     renderApp->add_option("--spp", render.spp, "Samples per pixel (overrides the scene)")->check(CLI::Range(1, 1 << 20));
-    renderApp->add_option("--threads", render.threads, "Worker threads (default: all cores)")->check(CLI::Range(1, 4096));
+    renderApp->add_option("--threads", render.threads, "Worker threads for loading and rendering (default: all cores)")->check(CLI::Range(1, 4096));
     renderApp->add_option("--seed", render.seed, "Random seed");
     renderApp->add_option("--width", render.width, "Image width (overrides the scene)")->check(CLI::Range(1, 1 << 16));
     renderApp->add_option("--height", render.height, "Image height (overrides the scene)")->check(CLI::Range(1, 1 << 16));
