@@ -63,8 +63,7 @@ ImplicitSurface::ImplicitSurface(FieldProgram field, const ImplicitSurfaceOption
         bool keep = false;
         SurfaceCell cell;
         FieldProgram program;
-        std::shared_ptr<const VariationalPatchTree> models;
-        std::vector<int32_t> modelLeaves;
+        std::optional<std::vector<VariationalPatch>> models;
         const VariationalLeafField* variational = nullptr;
     };
     std::vector<Built> built(level.size());
@@ -84,15 +83,10 @@ ImplicitSurface::ImplicitSurface(FieldProgram field, const ImplicitSurfaceOption
                                      ? box
                                      : transformBox(leaf->placement.linear, leaf->placement.offset, box);
             // Tolerance in the leaf's values: world values are valueScale times them.
-            auto models = buildVariationalPatchTree(*variational->field, leafBox,
-                                                    patchTolerance / leaf->placement.valueScale);
-            if (models) {
-                b.modelLeaves = models->leavesThatMayHoldSurface();
-                b.models = std::make_shared<const VariationalPatchTree>(std::move(*models));
-                b.variational = variational;
-                // A cell its models prove empty is no cell at all.
-                b.keep = !b.modelLeaves.empty();
-            }
+            b.models = buildSurfaceModels(*variational->field, leafBox, patchTolerance / leaf->placement.valueScale);
+            b.variational = variational;
+            // A cell its models prove empty is no cell at all.
+            if (b.models) b.keep = !b.models->empty();
         }
     });
     for (Built& b : built) {
@@ -104,19 +98,18 @@ ImplicitSurface::ImplicitSurface(FieldProgram field, const ImplicitSurfaceOption
             continue;
         }
         const LeafPlacement& placement = programs_.back().singleLeaf()->placement;
-        for (int32_t node : b.modelLeaves) {
+        for (VariationalPatch& model : *b.models) {
             SurfaceCell cell = b.cell;
-            const Box3& leafBox = b.models->nodes[node].box;
             if (placement.identity) {
-                cell.box = leafBox;
+                cell.box = model.box;
             } else {
-                // The world box around the model leaf, within the octree cell.
+                // The world box around the model's box, within the octree cell.
                 const Mat3 worldFromLeaf = placement.linear.inverse();
-                const Box3 around = transformBox(worldFromLeaf, -(worldFromLeaf * placement.offset), leafBox);
+                const Box3 around = transformBox(worldFromLeaf, -(worldFromLeaf * placement.offset), model.box);
                 cell.box = Box3(around.lower.cwiseMax(b.cell.box.lower), around.upper.cwiseMin(b.cell.box.upper));
             }
             cell.variational = static_cast<int32_t>(variationalCells_.size());
-            variationalCells_.push_back({b.models, node, b.variational->field.get(), placement});
+            variationalCells_.push_back({std::move(model), b.variational->field.get(), placement});
             cells_.push_back(cell);
         }
     }
@@ -136,9 +129,9 @@ TraceResult ImplicitSurface::intersectCell(uint32_t index, const Vec3& origin, c
         const Vec3 o = v.placement.leafFromWorld(origin);
         const Vec3 d = v.placement.identity ? direction : Vec3(v.placement.linear * direction);
         // The models hold inside their own box only.
-        if (!v.placement.identity && !clipRayToBox(v.models->nodes[v.node].box, o, d, t0, t1)) return {};
-        const PatchTraceResult p = tracePatchTree(*v.models, v.node, *v.field, o, d, t0, t1,
-                                                  settings_.epsilon / direction.norm());
+        if (!v.placement.identity && !clipRayToBox(v.model.box, o, d, t0, t1)) return {};
+        const PatchTraceResult p =
+            tracePatch(v.model, *v.field, o, d, t0, t1, settings_.epsilon / direction.norm());
         counters.steps += p.steps + p.exactEvaluations;
         counters.evaluations += uint64_t(p.steps) * VariationalPatch::kMonomials +
                                 uint64_t(p.exactEvaluations) * v.field->termCount();

@@ -6,7 +6,6 @@
 #pragma once
 
 #include <cstdint>
-#include <memory>
 #include <vector>
 
 #include "field_program.h"
@@ -37,13 +36,13 @@ struct SurfaceCell {
     int32_t variational = -1;  ///< index of its local models, or -1
 };
 
-/// A cell whose program is one variational leaf: one leaf of the models
-/// built for the octree cell it came from (in the leaf's frame), and how to
-/// reach that frame. Each such model leaf that may hold surface is a cell of
-/// its own, so Embree's BVH skips the empty ones.
+/// A cell whose program is one variational leaf: one of the models built
+/// for the octree cell it came from (in the leaf's frame; the cell's box
+/// bounds the model's box in the world), and how to reach that frame. Each
+/// model that may hold surface is a cell of its own, so Embree's BVH skips
+/// the space the models prove empty.
 struct VariationalCell {
-    std::shared_ptr<const VariationalPatchTree> models;
-    int32_t node = 0;
+    VariationalPatch model;
     const VariationalField* field = nullptr;  ///< owned by the cell's program
     LeafPlacement placement;
 };

@@ -14,21 +14,21 @@ inline int signOf(double v) { return (v > 0) - (v < 0); }
 
 // What one exact evaluation says about f near it: e = f - model is known
 // there, with its slope along the ray, and the model's gradient and Hessian
-// errors bound how fast that knowledge fades with distance. Valid within the
-// anchor's model's box only.
+// errors bound how fast that knowledge fades with distance.
 struct Anchor {
-    const VariationalPatch* patch = nullptr;
+    bool made = false;
     double t = 0, value = 0;
     double offset = 0, offsetSlope = 0;  // e and de/dt at the anchor
     Vec3 gradient = Vec3::Zero();        // exact grad f at the anchor
 
     // Raises (sign, margin) to what the anchor proves about f at t, where
     // the model's value is `model`.
-    void certify(double t, double model, double speed, int& sign, double& margin) const {
-        const double dt = t - this->t, noise = patch->evaluationNoise;
-        const double firstOrder = model + offset, firstDrift = patch->gradientError * speed * std::abs(dt) + noise;
+    void certify(const VariationalPatch& patch, double t, double model, double speed, int& sign,
+                 double& margin) const {
+        const double dt = t - this->t, noise = patch.evaluationNoise;
+        const double firstOrder = model + offset, firstDrift = patch.gradientError * speed * std::abs(dt) + noise;
         const double secondOrder = firstOrder + offsetSlope * dt,
-                     secondDrift = 0.5 * patch->hessianError * speed * speed * dt * dt + noise;
+                     secondDrift = 0.5 * patch.hessianError * speed * speed * dt * dt + noise;
         if (std::abs(firstOrder) - firstDrift > margin) {
             sign = signOf(firstOrder);
             margin = std::abs(firstOrder) - firstDrift;
@@ -42,21 +42,29 @@ struct Anchor {
 
 }  // namespace
 
-PatchTraceResult tracePatchTree(const VariationalPatchTree& tree, int32_t node, const VariationalField& field,
-                                const Vec3& origin, const Vec3& direction, double tStart, double tEnd,
-                                double minStep, int maxSteps) {
+PatchTraceResult tracePatch(const VariationalPatch& patch, const VariationalField& field, const Vec3& origin,
+                            const Vec3& direction, double tStart, double tEnd, double minStep, int maxSteps) {
     PatchTraceResult result;
     const double speed = direction.norm();
-    if (!(speed > 0) || !(tEnd >= tStart)) return result;
+    if (!(speed > 0) || !(tEnd >= tStart) || patch.holdsNoZero) return result;
 
-    int side = 0;                // sign of f on the part of the ray already cleared
-    double tCleared = tStart;    // no root in [tStart, tCleared) ... up to t
-    double fCleared = std::numeric_limits<double>::quiet_NaN();  // exact f at tCleared when known
+    int side = 0;              // sign of f on the part of the ray already cleared
+    double tCleared = tStart;  // the last point known to have that sign
+    double fCleared = std::numeric_limits<double>::quiet_NaN();  // exact f there, when known
     Anchor anchor;
     auto exactAt = [&](double t, Vec3* gradient) {
         ++result.exactEvaluations;
         if (gradient) return field.valueAndGradient(origin + t * direction, *gradient);
         return field.value(origin + t * direction);
+    };
+    auto anchorAt = [&](double t, const Vec3& p) {
+        anchor.value = exactAt(t, &anchor.gradient);
+        Vec3 modelGradient;
+        const double model = patch.valueAndGradient(p, modelGradient);
+        anchor.made = true;
+        anchor.t = t;
+        anchor.offset = anchor.value - model;
+        anchor.offsetSlope = (anchor.gradient - modelGradient).dot(direction);
     };
     auto hitAt = [&](double t, const Vec3& gradient) {
         result.hit = true;
@@ -76,123 +84,82 @@ PatchTraceResult tracePatchTree(const VariationalPatchTree& tree, int32_t node, 
         return root;
     };
 
-    const Vec3 inverseDirection = direction.cwiseInverse();
+    const double stepScale = 1.0 / (patch.lipschitz * speed);
     double t = tStart;
-    for (;;) {
-        // The leaf the ray is in, and where it leaves it.
-        const VariationalPatchTree::Node& leaf = tree.leafAt(origin + t * direction, direction, node);
-        double tExit = std::numeric_limits<double>::infinity();
-        for (int a = 0; a < 3; ++a)
-            if (direction[a] != 0)
-                tExit = std::min(tExit, ((direction[a] > 0 ? leaf.box.upper[a] : leaf.box.lower[a]) - origin[a]) *
-                                            inverseDirection[a]);
-        // Rounding can put a point a hair outside the leaf it was assigned.
-        const double cellEnd = std::min(std::max(tExit, t), tEnd);
-        const VariationalPatch& patch = tree.patches[leaf.patch];
-        if (patch.holdsNoZero) {
-            const int s = patch.range.lo > 0 ? 1 : -1;
-            if (side == 0) side = s;
-            else if (s != side) {
-                // Only rounding at a cell face can get here.
-                const double root = refineBracket(std::max(t, tCleared));
-                if (!std::isnan(root)) return hitAt(root, result.gradient);
-            }
-            tCleared = t = std::max(t, cellEnd);
-            fCleared = std::numeric_limits<double>::quiet_NaN();
-        } else {
-            const double stepScale = 1.0 / (patch.lipschitz * speed);
-            auto anchorAt = [&](double t, const Vec3& p) {
-                anchor.value = exactAt(t, &anchor.gradient);
-                Vec3 modelGradient;
-                const double model = patch.valueAndGradient(p, modelGradient);
-                anchor.patch = &patch;
-                anchor.t = t;
-                anchor.offset = anchor.value - model;
-                anchor.offsetSlope = (anchor.gradient - modelGradient).dot(direction);
-            };
-            while (t <= cellEnd) {
-                if (++result.steps > maxSteps) {
-                    result.complete = false;
-                    result.t = t;
-                    return result;
-                }
-                const Vec3 p = origin + t * direction;
-                const double model = patch.value(p);
-                const bool anchoredHere = anchor.patch == &patch, atAnchor = anchoredHere && t == anchor.t;
-                // The sign f certainly has here, and how far |f| is from 0.
-                int sign = 0;
-                double margin = 0.0;
-                if (atAnchor) {
-                    sign = signOf(anchor.value);
-                    margin = std::abs(anchor.value);
-                    if (sign == 0) return hitAt(t, anchor.gradient);  // f == 0 exactly
-                } else {
-                    if (std::abs(model) > patch.valueError) {
-                        sign = signOf(model);
-                        margin = std::abs(model) - patch.valueError;
-                    }
-                    if (anchoredHere) anchor.certify(t, model, speed, sign, margin);
-                }
-                if (sign == 0) {
-                    anchorAt(t, p);
-                    continue;
-                }
-                if (side == 0) side = sign;
-                else if (sign != side) {
-                    const double root = refineBracket(t);
-                    if (!std::isnan(root)) return hitAt(root, result.gradient);
-                    side = sign;
-                }
-                const double step = margin * stepScale;
-                if (step >= minStep) {
-                    tCleared = t;
-                    fCleared = atAnchor ? anchor.value : std::numeric_limits<double>::quiet_NaN();
-                    t = std::min(t + step, cellEnd);
-                    if (t == cellEnd) break;
-                    continue;
-                }
-                // Stalled within resolution of the surface (or grazing it):
-                // a forced step of minStep, which may skip a sliver thinner
-                // than that, as the general sphere tracer's does. The anchor
-                // (made here if there is none) tells the sign at its end.
-                if (!anchoredHere) {
-                    anchorAt(t, p);
-                    continue;
-                }
-                const double tForced = std::min(t + minStep, tEnd);
-                tCleared = t;
-                fCleared = atAnchor ? anchor.value : std::numeric_limits<double>::quiet_NaN();
-                if (tForced > cellEnd) {  // past the anchor's box: the next leaf looks
-                    t = cellEnd;
-                    break;
-                }
-                const Vec3 q = origin + tForced * direction;
-                const double forcedModel = patch.value(q);
-                int forcedSign = 0;
-                double forcedMargin = 0.0;
-                if (std::abs(forcedModel) > patch.valueError) {
-                    forcedSign = signOf(forcedModel);
-                    forcedMargin = std::abs(forcedModel) - patch.valueError;
-                }
-                anchor.certify(tForced, forcedModel, speed, forcedSign, forcedMargin);
-                if (forcedSign == -side) {
-                    // The root is in [t, tForced]: Newton from the anchor
-                    // (quadratic, the anchor is within resolution of it).
-                    const double slope = anchor.gradient.dot(direction);
-                    const double tNewton = slope != 0 ? anchor.t - anchor.value / slope : t;
-                    return hitAt(std::clamp(tNewton, t, tForced), anchor.gradient);
-                }
-                t = tForced;
-                if (forcedSign == 0) anchorAt(t, q);
-                else if (t >= tEnd) return result;
-            }
+    while (t <= tEnd) {
+        if (++result.steps > maxSteps) {
+            result.complete = false;
+            result.t = t;
+            return result;
         }
-        if (cellEnd >= tEnd) return result;
-        // Step onto the next leaf. When rounding puts the point back in the
-        // same leaf, nudge it on by a negligible fraction of a step.
-        t = std::max(t, cellEnd);
-        if (&tree.leafAt(origin + t * direction, direction, node) == &leaf) t += 1e-3 * minStep;
+        const Vec3 p = origin + t * direction;
+        const double model = patch.value(p);
+        const bool atAnchor = anchor.made && t == anchor.t;
+        // The sign f certainly has here, and how far |f| is from 0.
+        int sign = 0;
+        double margin = 0.0;
+        if (atAnchor) {
+            sign = signOf(anchor.value);
+            margin = std::abs(anchor.value);
+            if (sign == 0) return hitAt(t, anchor.gradient);  // f == 0 exactly
+        } else {
+            if (std::abs(model) > patch.valueError) {
+                sign = signOf(model);
+                margin = std::abs(model) - patch.valueError;
+            }
+            if (anchor.made) anchor.certify(patch, t, model, speed, sign, margin);
+        }
+        if (sign == 0) {
+            anchorAt(t, p);
+            continue;
+        }
+        if (side == 0) side = sign;
+        else if (sign != side) {
+            const double root = refineBracket(t);
+            if (!std::isnan(root)) return hitAt(root, result.gradient);
+            side = sign;
+        }
+        const double step = margin * stepScale;
+        if (step >= minStep) {
+            // No root within `step`: |f| >= margin - L |dx| > 0.
+            tCleared = t;
+            fCleared = atAnchor ? anchor.value : std::numeric_limits<double>::quiet_NaN();
+            if (t + step >= tEnd) return result;
+            t += step;
+            continue;
+        }
+        // Stalled within resolution of the surface (or grazing it): a
+        // forced step of minStep, which may skip a sliver thinner than that,
+        // as the general sphere tracer's does. The anchor (made here if there
+        // is none) tells the sign at its end.
+        if (!anchor.made) {
+            anchorAt(t, p);
+            continue;
+        }
+        const double tForced = std::min(t + minStep, tEnd);
+        tCleared = t;
+        fCleared = atAnchor ? anchor.value : std::numeric_limits<double>::quiet_NaN();
+        const Vec3 q = origin + tForced * direction;
+        const double forcedModel = patch.value(q);
+        int forcedSign = 0;
+        double forcedMargin = 0.0;
+        if (std::abs(forcedModel) > patch.valueError) {
+            forcedSign = signOf(forcedModel);
+            forcedMargin = std::abs(forcedModel) - patch.valueError;
+        }
+        anchor.certify(patch, tForced, forcedModel, speed, forcedSign, forcedMargin);
+        if (forcedSign == -side) {
+            // The root is in [t, tForced]: Newton from the anchor
+            // (quadratic, the anchor is within resolution of it).
+            const double slope = anchor.gradient.dot(direction);
+            const double tNewton = slope != 0 ? anchor.t - anchor.value / slope : t;
+            return hitAt(std::clamp(tNewton, t, tForced), anchor.gradient);
+        }
+        if (forcedSign == side && tForced >= tEnd) return result;
+        t = tForced;
+        if (forcedSign == 0) anchorAt(t, q);
     }
+    return result;
 }
 
 }  // namespace isotrace::geometry

@@ -30,11 +30,10 @@ struct PatchTraceResult {
 };
 
 /// First root of `field` along origin + t direction for t in [tStart, tEnd],
-/// a segment inside the box of the tree's node `node`. Marching never skips a piece of surface
-/// thinner than minStep (in t) along the ray, and brackets the hit to a
-/// step of minStep before the Newton step.
-PatchTraceResult tracePatchTree(const VariationalPatchTree& tree, int32_t node, const VariationalField& field,
-                                const Vec3& origin, const Vec3& direction, double tStart, double tEnd,
-                                double minStep, int maxSteps = 4000);
+/// a segment inside the model's box. Marching never skips a piece of
+/// surface thicker than minStep (in t) along the ray, and brackets the hit
+/// to one step of minStep before the Newton step.
+PatchTraceResult tracePatch(const VariationalPatch& patch, const VariationalField& field, const Vec3& origin,
+                            const Vec3& direction, double tStart, double tEnd, double minStep, int maxSteps = 4000);
 
 }  // namespace isotrace::geometry

@@ -283,73 +283,38 @@ std::optional<VariationalPatch> buildVariationalPatch(const VariationalField& fi
 
 namespace {
 
-bool splitPatchNode(const VariationalField& field, VariationalPatchTree& tree, int32_t node, double tolerance,
-                    int depthLeft, const VariationalPatch* parent) {
-    const Box3 box = tree.nodes[node].box;
-    // The parent's model may already prove this box empty: a leaf with
-    // just that range, no model of its own (no ray is traced through it).
+// Splits `box` until its models are fine enough, appending the leaves' models
+// that may hold surface. A parent's model that proves a child box empty
+// spares building the child's.
+bool collectSurfaceModels(const VariationalField& field, const Box3& box, double tolerance, int depthLeft,
+                          const VariationalPatch* parent, std::vector<VariationalPatch>& out) {
     if (parent) {
         const double centre = parent->value(box.center());
         const double spread = parent->lipschitz * box.halfDiagonal() + parent->valueError;
-        if (std::abs(centre) > spread) {
-            VariationalPatch empty;
-            empty.box = box;
-            empty.expansionPoint = box.center();
-            empty.range = {centre - spread, centre + spread};
-            empty.holdsNoZero = true;
-            tree.nodes[node].patch = static_cast<int32_t>(tree.patches.size());
-            tree.patches.push_back(std::move(empty));
-            return true;
-        }
+        if (std::abs(centre) > spread) return true;
     }
     auto patch = buildVariationalPatch(field, box);
     if (!patch) return false;
-    if (patch->holdsNoZero || patch->valueError <= tolerance || depthLeft == 0) {
-        tree.nodes[node].patch = static_cast<int32_t>(tree.patches.size());
-        tree.patches.push_back(std::move(*patch));
+    if (patch->holdsNoZero) return true;
+    if (patch->valueError <= tolerance || depthLeft == 0) {
+        out.push_back(std::move(*patch));
         return true;
     }
-    const int32_t first = static_cast<int32_t>(tree.nodes.size());
-    tree.nodes[node].firstChild = first;
     const Vec3 c = box.center();
     for (int i = 0; i < 8; ++i)
-        tree.nodes.push_back({Box3(box.corner(i).cwiseMin(c), box.corner(i).cwiseMax(c)), -1, -1});
-    for (int i = 0; i < 8; ++i)
-        if (!splitPatchNode(field, tree, first + i, tolerance, depthLeft - 1, &*patch)) return false;
+        if (!collectSurfaceModels(field, Box3(box.corner(i).cwiseMin(c), box.corner(i).cwiseMax(c)), tolerance,
+                                  depthLeft - 1, &*patch, out))
+            return false;
     return true;
 }
 
 }  // namespace
 
-std::optional<VariationalPatchTree> buildVariationalPatchTree(const VariationalField& field, const Box3& box,
-                                                              double tolerance, int maxDepth) {
-    VariationalPatchTree tree;
-    tree.nodes.push_back({box, -1, -1});
-    if (!splitPatchNode(field, tree, 0, tolerance, maxDepth, nullptr)) return std::nullopt;
-    return tree;
-}
-
-std::vector<int32_t> VariationalPatchTree::leavesThatMayHoldSurface() const {
-    std::vector<int32_t> leaves;
-    for (size_t i = 0; i < nodes.size(); ++i)
-        if (nodes[i].firstChild < 0 && !patches[nodes[i].patch].holdsNoZero) leaves.push_back(int32_t(i));
-    return leaves;
-}
-
-const VariationalPatchTree::Node& VariationalPatchTree::leafAt(const Vec3& p, const Vec3& direction,
-                                                               int32_t start) const {
-    const Node* node = &nodes[start];
-    while (node->firstChild >= 0) {
-        const Vec3 c = node->box.center();
-        // Box3::corner(i) takes bit a of i as "upper along axis a".
-        int child = 0;
-        for (int a = 0; a < 3; ++a) {
-            const bool upper = p[a] > c[a] || (p[a] == c[a] && direction[a] > 0);
-            child |= upper ? 1 << a : 0;
-        }
-        node = &nodes[node->firstChild + child];
-    }
-    return *node;
+std::optional<std::vector<VariationalPatch>> buildSurfaceModels(const VariationalField& field, const Box3& box,
+                                                               double tolerance, int maxDepth) {
+    std::vector<VariationalPatch> models;
+    if (!collectSurfaceModels(field, box, tolerance, maxDepth, nullptr, models)) return std::nullopt;
+    return models;
 }
 
 namespace {

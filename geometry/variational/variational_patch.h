@@ -20,7 +20,6 @@
 #pragma once
 
 #include <array>
-#include <cstdint>
 #include <optional>
 #include <vector>
 
@@ -75,27 +74,11 @@ struct PatchOptions {
 std::optional<VariationalPatch> buildVariationalPatch(const VariationalField& field, const Box3& box,
                                                       const PatchOptions& options = {});
 
-/// A box split as an octree until every leaf's model is exact to the
-/// tolerance asked for, proves the leaf free of surface, or the depth limit
-/// is reached. Leaves hold one model each.
-struct VariationalPatchTree {
-    struct Node {
-        Box3 box;
-        int32_t firstChild = -1;  ///< eight consecutive nodes, or -1 for a leaf
-        int32_t patch = -1;       ///< the leaf's model
-    };
-    std::vector<Node> nodes;  ///< nodes[0] is the root
-    std::vector<VariationalPatch> patches;
-
-    /// The leaf below `node` holding p; on a face between leaves, the one
-    /// the direction enters.
-    const Node& leafAt(const Vec3& p, const Vec3& direction, int32_t node = 0) const;
-    /// The leaves whose models do not prove them free of surface.
-    std::vector<int32_t> leavesThatMayHoldSurface() const;
-};
-
-/// None for Hermite fields.
-std::optional<VariationalPatchTree> buildVariationalPatchTree(const VariationalField& field, const Box3& box,
-                                                              double tolerance, int maxDepth = 3);
+/// The models of a box split as an octree until every leaf's model is
+/// exact to the tolerance asked for, proves its leaf free of surface, or the
+/// depth limit is reached: the leaves' models that may hold surface (each
+/// with its own box). None for Hermite fields.
+std::optional<std::vector<VariationalPatch>> buildSurfaceModels(const VariationalField& field, const Box3& box,
+                                                               double tolerance, int maxDepth = 3);
 
 }  // namespace isotrace::geometry
