@@ -10,13 +10,14 @@
 //  - the near centres (a handful) enter T to second order only, and the
 //    rest of each is evaluated exactly (their third derivative jumps at
 //    the centre, so no polynomial follows them further);
-//  - |e| <= valueError and |grad e| <= gradientError everywhere in the box.
+//  - |e| <= valueError, |grad e| <= gradientError and ||D^2 e|| <=
+//    hessianError everywhere in the box.
 //    They come from the fifth directional derivative of r^3,
 //    |d^5/dt^5 |x + t u|^3| = 45 |a| (1 - a^2)^2 / r^2 <= 12.88 / r^2, summed
 //    with |w_j| over the far terms: the terms are bounded one by one, but only
 //    at fifth order, where (s / r)^5 makes the sum of |w_j| harmless.
 // By Banach's theorem on symmetric forms, the same constant bounds the mixed
-// fifth derivative that the gradient's remainder needs.
+// fifth derivatives that the gradient's and Hessian's remainders need.
 #pragma once
 
 #include <array>
