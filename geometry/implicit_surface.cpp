@@ -70,7 +70,7 @@ ImplicitSurface::ImplicitSurface(FieldProgram field, const ImplicitSurfaceOption
     const double patchTolerance = options.patchRelativeTolerance * diagonal;
     tbb::parallel_for(size_t(0), level.size(), [&](size_t i) {
         const Box3& box = level[i];
-        if (!field_.estimate(box).range.containsZero()) return;
+        if (!field_.range(box).containsZero()) return;
         Built& b = built[i];
         b.keep = true;
         b.cell.box = box;
@@ -98,13 +98,13 @@ ImplicitSurface::ImplicitSurface(FieldProgram field, const ImplicitSurfaceOption
             continue;
         }
         const LeafPlacement& placement = programs_.back().singleLeaf()->placement;
+        const Mat3 worldFromLeaf = placement.identity ? Mat3::Identity() : Mat3(placement.linear.inverse());
         for (VariationalPatch& model : *b.models) {
             SurfaceCell cell = b.cell;
             if (placement.identity) {
                 cell.box = model.box;
             } else {
                 // The world box around the model's box, within the octree cell.
-                const Mat3 worldFromLeaf = placement.linear.inverse();
                 const Box3 around = transformBox(worldFromLeaf, -(worldFromLeaf * placement.offset), model.box);
                 cell.box = Box3(around.lower.cwiseMax(b.cell.box.lower), around.upper.cwiseMin(b.cell.box.upper));
             }
@@ -121,40 +121,44 @@ TraceResult ImplicitSurface::intersectCell(uint32_t index, const Vec3& origin, c
     double t0 = tNear, t1 = tFar;
     if (!clipRayToBox(cell.box, origin, direction, t0, t1)) return {};
     const FieldProgram& program = programs_[cell.program];
+    TraceResult r = cell.variational >= 0 ? traceModel(cell, origin, direction, t0, t1)
+                                          : sphereTrace(program, cell.lipschitz, origin, direction, t0, t1, settings_);
     TraceCounters& counters = threadTraceCounters();
-    TraceResult r;
-    if (cell.variational >= 0) {
-        // Trace in the leaf's frame: an affine map keeps the ray's t.
-        const VariationalCell& v = variationalCells_[cell.variational];
-        const Vec3 o = v.placement.leafFromWorld(origin);
-        const Vec3 d = v.placement.identity ? direction : Vec3(v.placement.linear * direction);
-        // The models hold inside their own box only.
-        if (!v.placement.identity && !clipRayToBox(v.model.box, o, d, t0, t1)) return {};
-        const PatchTraceResult p =
-            tracePatch(v.model, *v.field, o, d, t0, t1, settings_.epsilon / direction.norm());
-        counters.steps += p.steps + p.exactEvaluations;
-        counters.evaluations += uint64_t(p.steps) * VariationalPatch::kMonomials +
-                                uint64_t(p.exactEvaluations) * v.field->termCount();
-        if (p.complete) {
-            r.hit = p.hit;
-            r.t = p.t;
-            r.steps = p.steps + p.exactEvaluations;
-            // grad of valueScale f(A x + b) is valueScale A^T grad f.
-            r.gradientKnown = p.hit;
-            r.gradient = v.placement.valueScale *
-                         (v.placement.identity ? p.gradient : Vec3(v.placement.linear.transpose() * p.gradient));
-        } else {
-            r = sphereTrace(program, cell.lipschitz, origin, direction, p.t, t1, settings_);
-            counters.steps += r.steps;
-            counters.evaluations += r.evaluations;
-        }
-    } else {
-        r = sphereTrace(program, cell.lipschitz, origin, direction, t0, t1, settings_);
-        counters.steps += r.steps;
-        counters.evaluations += r.evaluations;
-    }
+    counters.steps += r.steps;
+    counters.evaluations += r.evaluations;
     // Hits exactly at tNear belong to the caller's previous surface.
     if (r.hit && !(r.t > tNear && r.t < tFar)) r.hit = false;
+    return r;
+}
+
+TraceResult ImplicitSurface::traceModel(const SurfaceCell& cell, const Vec3& origin, const Vec3& direction, double t0,
+                                        double t1) const {
+    // Trace in the leaf's frame: an affine map keeps the ray's t.
+    const VariationalCell& v = variationalCells_[cell.variational];
+    const Vec3 o = v.placement.leafFromWorld(origin);
+    const Vec3 d = v.placement.identity ? direction : Vec3(v.placement.linear * direction);
+    // The model holds inside its own box only.
+    if (!v.placement.identity && !clipRayToBox(v.model.box, o, d, t0, t1)) return {};
+    const PatchTraceResult p = tracePatch(v.model, *v.field, o, d, t0, t1, settings_.epsilon / direction.norm());
+    TraceResult r;
+    r.steps = p.steps + p.exactEvaluations;
+    r.evaluations =
+        uint64_t(p.steps) * VariationalPatch::kMonomials + uint64_t(p.exactEvaluations) * v.field->termCount();
+    if (!p.complete) {
+        const TraceResult rest =
+            sphereTrace(programs_[cell.program], cell.lipschitz, origin, direction, p.t, t1, settings_);
+        r.hit = rest.hit;
+        r.t = rest.t;
+        r.steps += rest.steps;
+        r.evaluations += rest.evaluations;
+        return r;
+    }
+    r.hit = p.hit;
+    r.t = p.t;
+    // grad of valueScale f(A x + b) is valueScale A^T grad f.
+    r.gradientKnown = p.hit;
+    r.gradient = v.placement.valueScale *
+                 (v.placement.identity ? p.gradient : Vec3(v.placement.linear.transpose() * p.gradient));
     return r;
 }
 

@@ -80,6 +80,12 @@ public:
     void setRayMask(unsigned mask) { rayMask_ = mask; }
 
 private:
+    /// A variational cell's march through its model (in the leaf's frame),
+    /// falling back to the general tracer if the model's march runs out of
+    /// steps.
+    TraceResult traceModel(const SurfaceCell& cell, const Vec3& origin, const Vec3& direction, double t0,
+                           double t1) const;
+
     unsigned rayMask_ = 0xFFFFFFFFu;
     FieldProgram field_;
     Box3 bounds_;

@@ -137,8 +137,7 @@ void accumulateMonomials(const Scratch& s, TermSums& out, std::index_sequence<I.
 
 }  // namespace
 
-std::optional<VariationalPatch> buildVariationalPatch(const VariationalField& field, const Box3& box,
-                                                      const PatchOptions& options) {
+std::optional<VariationalPatch> buildVariationalPatch(const VariationalField& field, const Box3& box) {
     if (!field.gradientCenters.empty() || box.isEmpty() || !box.isFinite()) return std::nullopt;
     const MonomialTable& table = monomials();
     VariationalPatch patch;
@@ -146,7 +145,7 @@ std::optional<VariationalPatch> buildVariationalPatch(const VariationalField& fi
     const Vec3 x0 = box.center();
     patch.expansionPoint = x0;
     const double s = box.halfDiagonal();
-    const double nearRadius = options.nearFactor * s;
+    const double nearRadius = kNearFactor * s;
 
     // Near terms enter the polynomial up to second order only (their third
     // derivative jumps at their centre) and are corrected exactly when the
@@ -199,8 +198,7 @@ std::optional<VariationalPatch> buildVariationalPatch(const VariationalField& fi
     //   d_ij     = 3 (w r delta_ij + w d_i d_j / r)
     //   d_ijk    = 3 w (delta_ij d_k + delta_ik d_j + delta_jk d_i) / r - 3 w d_i d_j d_k / r^3
     //   d_ijkl   = 3 w (dd + dd + dd) / r - 3 w (delta d d, six ways) / r^3 + 9 w d_i d_j d_k d_l / r^5
-    for (int m = 0; m < M; ++m) {
-        const int n = m;
+    for (int n = 0; n < M; ++n) {
         const auto& e = table.exponents[n];
         int axes[4], k = 0;
         for (int axis = 0; axis < 3; ++axis)

@@ -4,7 +4,7 @@
 //
 // Inside the box, f = T + sum over near centres + e, where
 //  - T is the fourth-order Taylor polynomial, at the box centre, of the
-//    terms whose centres lie at least nearFactor half-diagonals away. Its
+//    terms whose centres lie at least kNearFactor half-diagonals away. Its
 //    coefficients are exact sums over all those terms, so the cancellation
 //    between the fit's huge, oscillating weights stays inside them.
 //  - the near centres (a handful) enter T to second order only, and the
@@ -63,17 +63,15 @@ struct VariationalPatch {
     double valueAndGradient(const Vec3& x, Vec3& gradient) const;
 };
 
-struct PatchOptions {
-    /// Centres closer to the box centre than this many half-diagonals are
-    /// evaluated exactly; farther ones enter the polynomial, their remainder
-    /// weighted by 1 / (r - s)^2.
-    double nearFactor = 1.5;
-};
+/// Centres closer to the box centre than this many half-diagonals are near
+/// terms; farther ones enter the polynomial, their remainder weighted by
+/// 1 / (r - s)^2 (measured on the hand: 1.5 keeps both the near count and
+/// the gradient bound low).
+constexpr double kNearFactor = 1.5;
 
 /// The model of `field` over `box`; none for fields with gradient
 /// (Hermite) constraints, whose terms are not plain r^3.
-std::optional<VariationalPatch> buildVariationalPatch(const VariationalField& field, const Box3& box,
-                                                      const PatchOptions& options = {});
+std::optional<VariationalPatch> buildVariationalPatch(const VariationalField& field, const Box3& box);
 
 /// The models of a box split as an octree until every leaf's model is
 /// exact to the tolerance asked for, proves its leaf free of surface, or the
