@@ -11,7 +11,7 @@
 #include <tbb/task_arena.h>
 
 #include "bench_support.h"
-#include "geometry/implicit_surface.h"
+#include "geometry/tracing/implicit_surface.h"
 #include "renderer/camera.h"
 #include "renderer/scene_loader.h"
 

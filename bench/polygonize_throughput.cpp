@@ -7,10 +7,10 @@
 #include <cstdio>
 
 #include "bench_support.h"
-#include "geometry/field_parser.h"
-#include "geometry/marching_cubes.h"
-#include "geometry/mesh_analysis.h"
-#include "geometry/mesh_simplifier.h"
+#include "geometry/description/field_parser.h"
+#include "geometry/meshing/marching_cubes.h"
+#include "geometry/meshing/mesh_analysis.h"
+#include "geometry/meshing/mesh_simplifier.h"
 #include "renderer/render.h"
 #include "renderer/scene_loader.h"
 

@@ -7,27 +7,31 @@
 #include "bench_support.h"
 #include "renderer/camera.h"
 #include "renderer/render.h"
+#include "renderer/scene_builder.h"
 
 using namespace isotrace;
 
 int main() {
-    Scene scene;
-    scene.camera.from = Vec3(0, 2.2, 3.2);
-    scene.camera.to = Vec3(0, 0, 0);
-    scene.film.width = 320;
-    scene.film.height = 240;
-    scene.film.samplesPerPixel = 4;
-    scene.integrator.maxDepth = 4;
-    Material clay;
-    clay.albedo = RGB(0.7, 0.6, 0.5);
-    scene.materials.push_back(clay);
-    scene.meshes.push_back(std::make_shared<TriangleMesh>(bench::tessellatedTorus(1000, 500, 1.0, 0.4)));
+    SceneBuilder builder;
+    CameraSettings view;
+    view.from = Vec3(0, 2.2, 3.2);
+    view.to = Vec3(0, 0, 0);
+    builder.setCamera(view);
+    FilmSettings film;
+    film.width = 320;
+    film.height = 240;
+    film.samplesPerPixel = 4;
+    builder.setFilm(film);
+    constexpr int kMaxDepth = 4;
+    builder.setIntegrator(geometry::Json{{"type", "path"}, {"max_depth", kMaxDepth}});
     SceneObject torus;
-    scene.objects.push_back(torus);
-    scene.lights.push_back(Light::point(Vec3(2, 4, 3), RGB::Constant(30)));
-    scene.environmentLight = 1;
-    scene.lights.push_back(Light::environment(RGB::Constant(0.3)));
-    scene.commit();
+    torus.material = builder.addMaterial("clay", {{"type", "diffuse"}, {"albedo", {0.7, 0.6, 0.5}}});
+    torus.shape = builder.addMesh(bench::tessellatedTorus(1000, 500, 1.0, 0.4));
+    builder.addObject(torus);
+    builder.addLight({{"type", "point"}, {"position", {2, 4, 3}}, {"intensity", {30, 30, 30}}});
+    builder.addLight({{"type", "environment"}, {"radiance", {0.3, 0.3, 0.3}}});
+    const std::unique_ptr<Scene> built = builder.build();
+    const Scene& scene = *built;
     const size_t triangles = scene.meshes[0]->triangleCount();
 
     const PerspectiveCamera camera(scene.camera, scene.film.width, scene.film.height);
@@ -51,6 +55,6 @@ int main() {
         const double rays = double(w) * h * repeats;
         const double samples = double(w) * h * scene.film.samplesPerPixel;
         std::printf("threads %d: primary rays %.2f Mrays/s, path tracing %.2f Msamples/s (max depth %d)\n", threads,
-                    rays / primary / 1e6, samples / path / 1e6, scene.integrator.maxDepth);
+                    rays / primary / 1e6, samples / path / 1e6, kMaxDepth);
     }
 }

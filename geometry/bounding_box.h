@@ -5,8 +5,8 @@
 #include <limits>
 #include <ostream>
 
-#include "interval.h"
-#include "vector_types.h"
+#include "geometry/interval.h"
+#include "geometry/vector_types.h"
 
 namespace isotrace::geometry {
 

@@ -1,4 +1,4 @@
-#include "field_program.h"
+#include "geometry/field_program.h"
 
 #include <Eigen/SVD>
 #include <algorithm>

@@ -9,18 +9,18 @@
 #include <variant>
 #include <vector>
 
-#include "bounding_box.h"
-#include "fields/blobby.h"
-#include "fields/box.h"
-#include "fields/convolution.h"
-#include "fields/ellipsoid.h"
-#include "fields/plane.h"
-#include "fields/polyline_distance.h"
-#include "fields/polynomial.h"
-#include "fields/revolved_profile.h"
-#include "fields/sphere.h"
-#include "fields/torus.h"
-#include "fields/variational.h"
+#include "geometry/bounding_box.h"
+#include "geometry/fields/blobby.h"
+#include "geometry/fields/box.h"
+#include "geometry/fields/convolution.h"
+#include "geometry/fields/ellipsoid.h"
+#include "geometry/fields/plane.h"
+#include "geometry/fields/polyline_distance.h"
+#include "geometry/fields/polynomial.h"
+#include "geometry/fields/revolved_profile.h"
+#include "geometry/fields/sphere.h"
+#include "geometry/fields/torus.h"
+#include "geometry/variational/variational_leaf.h"
 
 namespace isotrace::geometry {
 

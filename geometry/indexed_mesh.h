@@ -6,7 +6,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "vector_types.h"
+#include "geometry/vector_types.h"
 
 namespace isotrace::geometry {
 

@@ -1,11 +1,11 @@
-#include "mesh_file.h"
+#include "geometry/mesh_file.h"
 
 #include <assimp/Importer.hpp>
 #include <assimp/scene.h>
 #include <cmath>
 #include <filesystem>
 
-#include "input_error.h"
+#include "geometry/input_error.h"
 
 namespace isotrace::geometry {
 

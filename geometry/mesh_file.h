@@ -4,7 +4,7 @@
 
 #include <string>
 
-#include "indexed_mesh.h"
+#include "geometry/indexed_mesh.h"
 
 namespace isotrace::geometry {
 

@@ -1,4 +1,4 @@
-#include "camera.h"
+#include "renderer/camera.h"
 
 #include <cmath>
 #include <numbers>

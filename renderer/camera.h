@@ -3,7 +3,7 @@
 
 #include <Eigen/Core>
 
-#include "ray.h"
+#include "renderer/ray.h"
 
 namespace isotrace {
 

@@ -1,4 +1,4 @@
-#include "csg_preview.h"
+#include "renderer/csg_preview.h"
 
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imagebufalgo.h>
@@ -10,11 +10,11 @@
 #include <map>
 #include <tbb/parallel_for.h>
 
-#include "geometry/field_parser.h"
+#include "geometry/description/field_parser.h"
 #include "geometry/input_error.h"
-#include "image_output.h"
-#include "render.h"
-#include "scene_loader.h"
+#include "renderer/image_output.h"
+#include "renderer/render.h"
+#include "renderer/scene_builder.h"
 
 namespace isotrace {
 
@@ -91,42 +91,47 @@ std::vector<Panel> panelsOf(const Json& node, const std::string& file, const std
     return panels;
 }
 
-Json boxJson(const Box3& b) {
-    return Json::array({{b.lower.x(), b.lower.y(), b.lower.z()}, {b.upper.x(), b.upper.y(), b.upper.z()}});
-}
-
-// A scene of one panel: the field alone on a floor, lit by a key light and
+// The scene of one panel: the field alone on a floor, lit by a key light and
 // sky, seen by the camera every panel shares.
-Json panelScene(const Json& fields, const Json& description, const Box3& frame, const PreviewCommand& c) {
+std::unique_ptr<Scene> panelScene(geometry::FieldProgram field, const Box3& frame, const PreviewCommand& c) {
+    SceneBuilder builder;
     const Vec3 center = frame.center();
     const double radius = std::max(frame.halfDiagonal(), 1e-3);
-    constexpr double fovDegrees = 35.0;
+    CameraSettings camera;
+    camera.verticalFovDegrees = 35.0;
     const Vec3 direction = Vec3(0.9, 0.75, 1.5).normalized();
-    const Vec3 eye = center + direction * (1.1 * radius / std::sin(0.5 * fovDegrees * M_PI / 180.0));
+    camera.from = center + direction * (1.1 * radius / std::sin(0.5 * camera.verticalFovDegrees * M_PI / 180.0));
+    camera.to = center;
+    camera.focusDistance = (camera.to - camera.from).norm();
+    builder.setCamera(camera);
+    FilmSettings film;
+    film.width = c.panelWidth;
+    film.height = c.panelHeight;
+    film.samplesPerPixel = c.spp;
+    builder.setFilm(film);
+    builder.setIntegrator(Json{{"type", "whitted"}, {"max_depth", 3}});
+    SceneObject shape;
+    shape.kind = SceneObject::Kind::Implicit;
+    shape.name = "preview_shape";
+    shape.material = builder.addMaterial("preview_shape", {{"type", "diffuse"}, {"albedo", {0.8, 0.5, 0.25}}});
+    shape.shape = builder.addSurface(std::make_unique<geometry::ImplicitSurface>(std::move(field)));
+    builder.addObject(shape);
+
     const double floorY = frame.lower.y(), reach = 20.0 * radius;
-    Json scene = {
-        {"camera", {{"from", {eye.x(), eye.y(), eye.z()}}, {"to", {center.x(), center.y(), center.z()}}, {"fov", fovDegrees}}},
-        {"film", {{"width", c.panelWidth}, {"height", c.panelHeight}, {"spp", c.spp}}},
-        {"integrator", {{"type", "whitted"}, {"max_depth", 3}}},
-        {"materials",
-         {{"preview_shape", {{"type", "diffuse"}, {"albedo", {0.8, 0.5, 0.25}}}},
-          {"preview_floor", {{"type", "diffuse"}, {"albedo", {0.5, 0.5, 0.5}}}}}},
-        {"fields", fields},
-        {"objects",
-         Json::array({Json{{"field", "isotrace_preview_panel"}, {"material", "preview_shape"}},
-                      Json{{"name", "preview_floor"},
-                           {"vertices", Json::array({center.x() - reach, floorY, center.z() - reach,
-                                                     center.x() + reach, floorY, center.z() - reach,
-                                                     center.x() + reach, floorY, center.z() + reach,
-                                                     center.x() - reach, floorY, center.z() + reach})},
-                           {"indices", Json::array({0, 2, 1, 0, 3, 2})},
-                           {"material", "preview_floor"}}})},
-        {"lights",
-         Json::array({Json{{"type", "directional"}, {"direction", {-0.5, -1.0, -0.35}}, {"irradiance", {2.6, 2.5, 2.4}}},
-                      Json{{"type", "environment"}, {"radiance", {0.22, 0.24, 0.28}}}})}};
-    scene["fields"]["isotrace_preview_panel"] = description;
-    scene["fields"]["isotrace_preview_panel"]["bounds"] = boxJson(frame);
-    return scene;
+    TriangleMesh floorMesh;
+    for (const Vec3& p : {Vec3(center.x() - reach, floorY, center.z() - reach), Vec3(center.x() + reach, floorY, center.z() - reach),
+                          Vec3(center.x() + reach, floorY, center.z() + reach), Vec3(center.x() - reach, floorY, center.z() + reach)})
+        floorMesh.positions.insert(floorMesh.positions.end(), {float(p.x()), float(p.y()), float(p.z())});
+    floorMesh.indices = {0, 2, 1, 0, 3, 2};
+    SceneObject floor;
+    floor.name = "preview_floor";
+    floor.material = builder.addMaterial("preview_floor", {{"type", "diffuse"}, {"albedo", {0.5, 0.5, 0.5}}});
+    floor.shape = builder.addMesh(std::move(floorMesh));
+    builder.addObject(floor);
+
+    builder.addLight({{"type", "directional"}, {"direction", {-0.5, -1.0, -0.35}}, {"irradiance", {2.6, 2.5, 2.4}}});
+    builder.addLight({{"type", "environment"}, {"radiance", {0.22, 0.24, 0.28}}});
+    return builder.build();
 }
 
 // Colours a plane cut of the field: blues inside (negative), oranges outside,
@@ -259,8 +264,16 @@ void runPreview(const PreviewCommand& c) {
             image = sectionImage(library.compileDescription(panels[i].description, pointer), frame, section.first,
                                  section.second, c.panelWidth, c.panelHeight);
         } else {
-            const Json scene = panelScene(fields, panels[i].description, frame, c);
-            const std::unique_ptr<Scene> loaded = loadSceneDescription(scene, c.scene);
+            // The node's operands may be unbounded (a plane): every panel is cut to the frame.
+            Json description = panels[i].description;
+            description["bounds"] = Json::array({{frame.lower.x(), frame.lower.y(), frame.lower.z()},
+                                                 {frame.upper.x(), frame.upper.y(), frame.upper.z()}});
+            std::unique_ptr<Scene> loaded;
+            try {
+                loaded = panelScene(library.compileDescription(description, pointer), frame, c);
+            } catch (const std::invalid_argument& e) {
+                throw InputError(c.scene, pointer, e.what());
+            }
             RenderOptions options;
             options.threads = c.threads;
             options.quiet = true;

@@ -1,4 +1,4 @@
-#include "flip_metric.h"
+#include "renderer/flip_metric.h"
 
 #include <Eigen/Dense>
 #include <algorithm>

@@ -7,7 +7,7 @@
 
 #include <vector>
 
-#include "render.h"
+#include "renderer/film.h"
 
 namespace isotrace {
 

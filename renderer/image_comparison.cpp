@@ -1,4 +1,4 @@
-#include "image_comparison.h"
+#include "renderer/image_comparison.h"
 
 #include <cmath>
 #include <limits>

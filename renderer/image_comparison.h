@@ -4,7 +4,7 @@
 
 #include <string>
 
-#include "render.h"
+#include "renderer/film.h"
 
 namespace isotrace {
 

@@ -1,4 +1,4 @@
-#include "image_output.h"
+#include "renderer/image_output.h"
 
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imageio.h>
@@ -92,12 +92,6 @@ std::string previewPathFor(const std::string& exrPath) {
     std::filesystem::path p(exrPath);
     p.replace_extension(".png");
     return p.string();
-}
-
-std::string metadataValue(const ImageMetadata& metadata, const std::string& name) {
-    for (const auto& [key, value] : metadata.strings)
-        if (key == name) return value;
-    return "";
 }
 
 Image readImage(const std::string& path, ImageMetadata* metadata) {

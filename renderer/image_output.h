@@ -7,13 +7,9 @@
 #include <utility>
 #include <vector>
 
-#include "render.h"
+#include "renderer/film.h"
 
 namespace isotrace {
-
-struct ImageMetadata {
-    std::vector<std::pair<std::string, std::string>> strings;  ///< name, value
-};
 
 /// Writes any format OpenImageIO knows from the extension (EXR: float or
 /// half RGB). Throws std::runtime_error naming the path on failure.
@@ -29,7 +25,5 @@ void checkOutputFolder(const std::string& path);
 /// the full frame; throws std::runtime_error naming the path. `metadata`,
 /// when given, receives the string attributes.
 Image readImage(const std::string& path, ImageMetadata* metadata = nullptr);
-/// The value of a metadata entry, or "" when absent.
-std::string metadataValue(const ImageMetadata& metadata, const std::string& name);
 
 }  // namespace isotrace

@@ -1,30 +1,32 @@
-// Light transport: the radiance arriving along a camera ray.
+// Light transport: the radiance arriving along a camera ray. Integrators
+// see surfaces through their BSDFs and emissions and lights through the
+// Light interface, never by type. Each type is one file in integrators/,
+// listed in integrators/integrator_types.cpp.
 #pragma once
 
 #include <memory>
 
-#include "color.h"
-#include "sampler.h"
-#include "scene.h"
+#include "renderer/color.h"
+#include "renderer/registry.h"
+#include "renderer/sampler.h"
+#include "renderer/sampling.h"
+#include "renderer/scene.h"
 
 namespace isotrace {
 
 class Integrator {
 public:
-    explicit Integrator(const Scene& scene) : scene_(scene) {}
     virtual ~Integrator() = default;
-    virtual RGB radiance(const Ray& ray, Sampler& sampler) const = 0;
-
-protected:
-    const Scene& scene_;
+    /// The type name of the scene file ("path"), recorded in renders.
+    virtual const char* typeName() const = 0;
+    virtual RGB radiance(const Scene& scene, const Ray& ray, Sampler& sampler) const = 0;
 };
 
-/// Unidirectional path tracing with next-event estimation, multiple
-/// importance sampling (power heuristic) and Russian roulette.
-std::unique_ptr<Integrator> makePathIntegrator(const Scene& scene);
-/// Direct light with hard shadows and mirror recursion: the fast preview.
-std::unique_ptr<Integrator> makeWhittedIntegrator(const Scene& scene);
-std::unique_ptr<Integrator> makeIntegrator(const Scene& scene);
+/// Reads one integrator's keys (the reader is left for the caller to finish).
+using IntegratorFactory = std::unique_ptr<Integrator> (*)(geometry::JsonObjectReader& r);
+const Registry<IntegratorFactory>& integratorRegistry();
+/// The integrator of a scene that names none: path tracing with defaults.
+std::unique_ptr<Integrator> makeDefaultIntegrator();
 
 // Shared helpers.
 
@@ -35,9 +37,8 @@ inline double rayOffset(const Vec3& p) { return 1e-4 * (1.0 + p.cwiseAbs().maxCo
 inline Vec3 offsetOrigin(const Vec3& p, const Vec3& n, const Vec3& w) {
     return p + (n.dot(w) >= 0 ? 1.0 : -1.0) * rayOffset(p) * n;
 }
-/// Cosine-weighted direction around unit normal n.
-Vec3 sampleCosineHemisphere(const Vec3& n, const Eigen::Vector2d& u);
-inline Vec3 reflect(const Vec3& d, const Vec3& n) { return d - 2.0 * d.dot(n) * n; }
-inline double powerHeuristic(double a, double b) { return a * a / (a * a + b * b); }
+/// The shading frame at a hit seen along direction wo: normals turned to
+/// wo's side (surfaces are two-sided).
+ShadingPoint shadingPointOf(const SurfaceHit& hit, const Vec3& wo);
 
 }  // namespace isotrace

@@ -1,14 +1,15 @@
 // Light sources. Point and directional lights are delta lights; area lights
-// (quads, disks and emissive meshes) are world-space triangles sampled by
-// area; the environment is a constant radiance from every direction.
+// are emissive triangles sampled by area (quads, disks and emissive meshes);
+// the environment surrounds the scene. Each type is one file in lights/,
+// listed in lights/light_types.cpp.
 #pragma once
 
-#include <array>
 #include <Eigen/Core>
-#include <vector>
+#include <cstddef>
 
-#include "color.h"
-#include "ray.h"
+#include "renderer/color.h"
+#include "renderer/ray.h"
+#include "renderer/registry.h"
 
 namespace isotrace {
 
@@ -22,38 +23,31 @@ struct LightSample {
 
 class Light {
 public:
-    enum class Type { Point, Directional, Area, Environment };
+    virtual ~Light() = default;
 
-    static Light point(const Vec3& position, const RGB& intensity);
-    /// `direction` is the direction light travels; `irradiance` falls on a
-    /// surface facing it.
-    static Light directional(const Vec3& direction, const RGB& irradiance);
-    static Light area(std::vector<std::array<Vec3, 3>> triangles, const RGB& radiance, bool twoSided);
-    static Light environment(const RGB& radiance);
+    /// Point and directional lights: found only by sampling them.
+    virtual bool isDelta() const { return false; }
+    /// Lights at infinity, seen by rays that leave the scene.
+    virtual bool isInfinite() const { return false; }
 
-    Type type() const { return type_; }
-    bool isDelta() const { return type_ == Type::Point || type_ == Type::Directional; }
-    const RGB& radiance() const { return radiance_; }
-    bool twoSided() const { return twoSided_; }
-    double area() const { return totalArea_; }
-    const std::vector<std::array<Vec3, 3>>& triangles() const { return triangles_; }
-
-    LightSample sample(const Vec3& p, const Eigen::Vector2d& u) const;
+    virtual LightSample sample(const Vec3& p, const Eigen::Vector2d& u) const = 0;
     /// Solid-angle density with which sample() picks the point `onLight`
-    /// (normal `lightNormal`) seen from `p`; environment: any direction.
-    double pdf(const Vec3& p, const Vec3& onLight, const Vec3& lightNormal) const;
-    /// Radiance leaving an area light's point with normal n towards direction w.
-    RGB emitted(const Vec3& n, const Vec3& w) const;
-
-private:
-    Type type_ = Type::Point;
-    Vec3 position_ = Vec3::Zero();
-    Vec3 direction_ = Vec3(0, -1, 0);
-    RGB radiance_ = RGB::Zero();  ///< intensity (point), irradiance (directional), radiance (area, environment)
-    bool twoSided_ = false;
-    std::vector<std::array<Vec3, 3>> triangles_;
-    std::vector<double> cumulativeArea_;
-    double totalArea_ = 0.0;
+    /// (normal `lightNormal`) seen from `p`; infinite lights: the direction
+    /// alone matters. Zero for delta lights.
+    virtual double pdf(const Vec3& p, const Vec3& onLight, const Vec3& lightNormal) const { return 0.0; }
+    /// Radiance arriving along a ray that leaves the scene in direction w.
+    virtual RGB escapedRadiance(const Vec3& w) const { return RGB::Zero(); }
+    /// The mean radiance of an infinite light over all directions (the
+    /// Whitted preview's unshadowed ambient light).
+    virtual RGB meanRadiance() const { return RGB::Zero(); }
 };
+
+class SceneBuilder;
+
+/// Reads one entry of "lights" (its index given, for names) and adds what
+/// it describes to the scene: a light, or emissive geometry sampled as one.
+/// The reader is left for the caller to finish.
+using LightFactory = void (*)(geometry::JsonObjectReader& r, SceneBuilder& builder, size_t index);
+const Registry<LightFactory>& lightRegistry();
 
 }  // namespace isotrace

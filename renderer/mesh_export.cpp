@@ -1,4 +1,4 @@
-#include "mesh_export.h"
+#include "renderer/mesh_export.h"
 
 #include <assimp/Exporter.hpp>
 #include <assimp/scene.h>

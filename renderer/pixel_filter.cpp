@@ -1,4 +1,4 @@
-#include "pixel_filter.h"
+#include "renderer/pixel_filter.h"
 
 #include <cmath>
 #include <numbers>

@@ -1,4 +1,4 @@
-#include "progress_reporter.h"
+#include "renderer/progress_reporter.h"
 
 #include <cstdio>
 #include <unistd.h>

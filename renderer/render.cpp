@@ -1,4 +1,4 @@
-#include "render.h"
+#include "renderer/render.h"
 
 #include <algorithm>
 #include <array>
@@ -8,10 +8,10 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
-#include "camera.h"
-#include "geometry/implicit_surface.h"
-#include "integrator.h"
-#include "progress_reporter.h"
+#include "renderer/camera.h"
+#include "geometry/tracing/implicit_surface.h"
+#include "renderer/integrator.h"
+#include "renderer/progress_reporter.h"
 
 namespace isotrace {
 
@@ -27,23 +27,13 @@ Image render(const Scene& scene, const RenderOptions& options, RenderStatistics*
     image.fullWidth = film.width;
     image.fullHeight = film.height;
     image.rgb.assign(size_t(image.width) * image.height * 3, 0.0f);
-    // AOV channels, in the order asked for.
-    std::vector<int> aovOffset;  // into a pixel's extra channels, per known AOV below
-    const bool wantAlbedo = std::count(options.aovs.begin(), options.aovs.end(), "albedo") > 0;
-    const bool wantNormal = std::count(options.aovs.begin(), options.aovs.end(), "normal") > 0;
-    const bool wantDepth = std::count(options.aovs.begin(), options.aovs.end(), "depth") > 0;
-    const bool wantId = std::count(options.aovs.begin(), options.aovs.end(), "id") > 0;
-    const bool wantSteps = std::count(options.aovs.begin(), options.aovs.end(), "steps") > 0;
-    if (wantAlbedo) image.extraChannels.insert(image.extraChannels.end(), {"albedo.R", "albedo.G", "albedo.B"});
-    if (wantNormal) image.extraChannels.insert(image.extraChannels.end(), {"N.X", "N.Y", "N.Z"});
-    if (wantDepth) image.extraChannels.push_back("Z");
-    if (wantId) image.extraChannels.push_back("id");
-    if (wantSteps) image.extraChannels.push_back("steps");
+    const AovLayout aovs(options.aovs);
+    image.extraChannels = aovs.channels();
     const size_t extraCount = image.extraChannels.size();
     image.extra.assign(size_t(image.width) * image.height * extraCount, 0.0f);
 
     const PerspectiveCamera camera(scene.camera, film.width, film.height);
-    const std::unique_ptr<Integrator> integrator = makeIntegrator(scene);
+    const Integrator& integrator = *scene.integrator;
     constexpr int kTile = 16;
     const int tilesX = (image.width + kTile - 1) / kTile, tilesY = (image.height + kTile - 1) / kTile;
     ProgressReporter progress(static_cast<long long>(tilesX) * tilesY, "render", options.quiet);
@@ -52,7 +42,7 @@ Image render(const Scene& scene, const RenderOptions& options, RenderStatistics*
     // AOVs trace each sample's camera ray once more: only when asked for.
     auto writeAovs = [&](int x, int y, float* out) {
         Sampler sampler(film.sampler, options.seed);
-        std::array<double, 9> sum{};  // at most 9 AOV channels; nothing allocated per pixel
+        std::array<double, AovLayout::kMaxChannels> sum{};  // nothing allocated per pixel
         float id = -1.0f;
         for (int s = 0; s < film.samplesPerPixel; ++s) {
             sampler.startPixelSample(x, y, static_cast<uint32_t>(s));
@@ -62,26 +52,19 @@ Image render(const Scene& scene, const RenderOptions& options, RenderStatistics*
             const uint64_t steps0 = counters.steps;
             SurfaceHit hit;
             const bool found = scene.intersect(ray, INFINITY, hit);
-            size_t k = 0;
-            if (wantAlbedo) {
+            if (aovs.has(Aov::Albedo)) {
                 RGB a = RGB::Zero();
-                if (found) {
-                    const Material& m = scene.materials[scene.objects[hit.object].material];
-                    a = m.type == Material::Type::Diffuse ? m.albedo : m.type == Material::Type::Mirror ? m.reflectance : m.radiance;
-                }
-                for (int c = 0; c < 3; ++c) sum[k++] += a[c];
+                if (found) a = scene.materials[scene.objects[hit.object].material].albedo(shadingPointOf(hit, -ray.direction));
+                for (int c = 0; c < 3; ++c) sum[aovs.offset(Aov::Albedo) + c] += a[c];
             }
-            if (wantNormal)
-                for (int c = 0; c < 3; ++c) sum[k++] += found ? hit.shadingNormal[c] : 0.0;
-            if (wantDepth) sum[k++] += found ? hit.t : 0.0;
-            if (wantId) {
-                if (s == 0) id = found ? float(hit.object) : -1.0f;
-                ++k;
-            }
-            if (wantSteps) sum[k++] += double(counters.steps - steps0);
+            if (aovs.has(Aov::Normal))
+                for (int c = 0; c < 3; ++c) sum[aovs.offset(Aov::Normal) + c] += found ? hit.shadingNormal[c] : 0.0;
+            if (aovs.has(Aov::Depth)) sum[aovs.offset(Aov::Depth)] += found ? hit.t : 0.0;
+            if (aovs.has(Aov::Id) && s == 0) id = found ? float(hit.object) : -1.0f;
+            if (aovs.has(Aov::Steps)) sum[aovs.offset(Aov::Steps)] += double(counters.steps - steps0);
         }
         for (size_t k = 0; k < extraCount; ++k) out[k] = float(sum[k] / film.samplesPerPixel);
-        if (wantId) out[extraCount - (wantSteps ? 2 : 1)] = id;
+        if (aovs.has(Aov::Id)) out[aovs.offset(Aov::Id)] = id;
     };
 
     auto renderTile = [&](int tile) {
@@ -99,7 +82,7 @@ Image render(const Scene& scene, const RenderOptions& options, RenderStatistics*
                     const Eigen::Vector2d offset = film.filter.sampleOffset(sampler.get2D());
                     const Eigen::Vector2d lens = sampler.get2D();
                     const Ray ray = camera.generateRay(x + 0.5 + offset.x(), y + 0.5 + offset.y(), lens);
-                    const RGB L = integrator->radiance(ray, sampler);
+                    const RGB L = integrator.radiance(scene, ray, sampler);
                     if (L.allFinite()) sum += L;
                     else ++dropped;
                 }

@@ -1,4 +1,4 @@
-#include "sampler.h"
+#include "renderer/sampler.h"
 
 #include <array>
 

@@ -1,10 +1,10 @@
-#include "scene.h"
+#include "renderer/scene.h"
 
 #include <cmath>
 #include <limits>
 #include <stdexcept>
 
-#include "geometry/embree_implicit_geometry.h"
+#include "geometry/tracing/embree_implicit_geometry.h"
 
 namespace isotrace {
 

@@ -1,5 +1,7 @@
-// A loaded scene: Embree's acceleration structure over instances of shared
-// shapes (triangle meshes and implicit surfaces), plus what shading needs.
+// A scene ready to render: Embree's acceleration structure over instances of
+// shared shapes (triangle meshes and implicit surfaces), plus what shading
+// needs. SceneBuilder fills and commits it; scene files reach it through
+// the loader.
 #pragma once
 
 #include <embree3/rtcore.h>
@@ -7,33 +9,19 @@
 #include <string>
 #include <vector>
 
-#include "camera.h"
-#include "geometry/implicit_surface.h"
-#include "light.h"
-#include "material.h"
-#include "pixel_filter.h"
-#include "sampler.h"
-#include "triangle_mesh.h"
+#include "geometry/tracing/implicit_surface.h"
+#include "renderer/camera.h"
+#include "renderer/film.h"
+#include "renderer/light.h"
+#include "renderer/material.h"
+#include "renderer/triangle_mesh.h"
 
 namespace isotrace {
 
+class Integrator;
+
 using geometry::Mat3;
 using geometry::Mat4;
-
-struct FilmSettings {
-    int width = 640;
-    int height = 480;
-    int samplesPerPixel = 16;
-    PixelFilter filter;
-    SamplerType sampler = SamplerType::Sobol;
-};
-
-struct IntegratorSettings {
-    enum class Type { Path, Whitted };
-    Type type = Type::Path;
-    int maxDepth = 8;
-    int russianRouletteDepth = 3;
-};
 
 /// One instance in the scene: a shape placed by a transform.
 struct SceneObject {
@@ -63,16 +51,16 @@ public:
     Scene(const Scene&) = delete;
     Scene& operator=(const Scene&) = delete;
 
-    // Contents, filled by the loader.
+    // Contents, filled by SceneBuilder.
     std::string sourceFile;
     CameraSettings camera;
     FilmSettings film;
-    IntegratorSettings integrator;
+    std::shared_ptr<const Integrator> integrator;
     std::vector<Material> materials;
     std::vector<std::shared_ptr<TriangleMesh>> meshes;
     std::vector<std::unique_ptr<geometry::ImplicitSurface>> surfaces;
     std::vector<SceneObject> objects;
-    std::vector<Light> lights;
+    std::vector<std::unique_ptr<const Light>> lights;
     int environmentLight = -1;
     /// Things a user should hear about that are not errors (an empty mesh).
     std::vector<std::string> warnings;

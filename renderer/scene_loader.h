@@ -6,8 +6,8 @@
 #include <string>
 
 #include "geometry/input_error.h"
-#include "geometry/json_reader.h"
-#include "scene.h"
+#include "geometry/description/json_reader.h"
+#include "renderer/scene.h"
 
 namespace isotrace {
 
@@ -22,8 +22,5 @@ std::unique_ptr<Scene> loadScene(const std::string& path, const SceneOverrides& 
 /// anchors relative file names.
 std::unique_ptr<Scene> loadSceneDescription(const geometry::Json& root, const std::string& path,
                                             const SceneOverrides& overrides = {});
-
-/// Bytes a render of this size needs (film sums, output and preview).
-double estimateFilmBytes(int width, int height);
 
 }  // namespace isotrace

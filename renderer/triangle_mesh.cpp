@@ -1,4 +1,4 @@
-#include "triangle_mesh.h"
+#include "renderer/triangle_mesh.h"
 
 
 #include "geometry/input_error.h"

@@ -1,4 +1,4 @@
-#include "blobby.h"
+#include "geometry/fields/blobby.h"
 
 #include <cmath>
 

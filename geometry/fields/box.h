@@ -1,7 +1,7 @@
 // Box with optionally rounded edges: exact signed distance.
 #pragma once
 
-#include "distance_field_bounds.h"
+#include "geometry/fields/distance_field_bounds.h"
 
 namespace isotrace::geometry {
 

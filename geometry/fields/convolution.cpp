@@ -1,4 +1,4 @@
-#include "convolution.h"
+#include "geometry/fields/convolution.h"
 
 #include <cmath>
 #include <numbers>

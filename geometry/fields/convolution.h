@@ -8,7 +8,7 @@
 
 #include <vector>
 
-#include "distance_field_bounds.h"
+#include "geometry/fields/distance_field_bounds.h"
 
 namespace isotrace::geometry {
 

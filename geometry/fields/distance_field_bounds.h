@@ -1,7 +1,7 @@
 // Ranges shared by fields whose gradient length is at most L everywhere.
 #pragma once
 
-#include "../bounding_box.h"
+#include "geometry/bounding_box.h"
 
 namespace isotrace::geometry {
 

@@ -3,7 +3,7 @@
 // the distance to the surface and sphere tracing stays safe.
 #pragma once
 
-#include "distance_field_bounds.h"
+#include "geometry/fields/distance_field_bounds.h"
 
 namespace isotrace::geometry {
 

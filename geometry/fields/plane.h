@@ -1,7 +1,7 @@
 // Half-space n . p <= offset (n of unit length): exact signed distance.
 #pragma once
 
-#include "distance_field_bounds.h"
+#include "geometry/fields/distance_field_bounds.h"
 
 namespace isotrace::geometry {
 

@@ -5,7 +5,7 @@
 #include <limits>
 #include <vector>
 
-#include "distance_field_bounds.h"
+#include "geometry/fields/distance_field_bounds.h"
 
 namespace isotrace::geometry {
 

@@ -1,4 +1,4 @@
-#include "polynomial.h"
+#include "geometry/fields/polynomial.h"
 
 #include <algorithm>
 #include <cmath>

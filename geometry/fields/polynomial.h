@@ -7,7 +7,7 @@
 #include <array>
 #include <vector>
 
-#include "distance_field_bounds.h"
+#include "geometry/fields/distance_field_bounds.h"
 
 namespace isotrace::geometry {
 

@@ -7,7 +7,7 @@
 #include <cmath>
 #include <limits>
 
-#include "distance_field_bounds.h"
+#include "geometry/fields/distance_field_bounds.h"
 
 namespace isotrace::geometry {
 

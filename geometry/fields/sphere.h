@@ -1,7 +1,7 @@
 // Sphere: exact signed distance |p - c| - r.
 #pragma once
 
-#include "distance_field_bounds.h"
+#include "geometry/fields/distance_field_bounds.h"
 
 namespace isotrace::geometry {
 

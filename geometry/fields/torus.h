@@ -4,7 +4,7 @@
 
 #include <cmath>
 
-#include "distance_field_bounds.h"
+#include "geometry/fields/distance_field_bounds.h"
 
 namespace isotrace::geometry {
 

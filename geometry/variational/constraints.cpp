@@ -1,4 +1,4 @@
-#include "constraints.h"
+#include "geometry/variational/constraints.h"
 
 #include <cmath>
 #include <fstream>

@@ -1,4 +1,4 @@
-#include "patch_tracer.h"
+#include "geometry/variational/patch_tracer.h"
 
 #include "geometry/bracketed_root.h"
 

@@ -1,4 +1,4 @@
-#include "rbf_solver.h"
+#include "geometry/variational/rbf_solver.h"
 
 #include <Eigen/Cholesky>
 #include <Eigen/QR>

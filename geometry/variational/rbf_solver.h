@@ -10,8 +10,8 @@
 #include <string>
 #include <vector>
 
-#include "constraints.h"
-#include "variational_field.h"
+#include "geometry/variational/constraints.h"
+#include "geometry/variational/variational_field.h"
 
 namespace isotrace::geometry {
 

@@ -1,4 +1,4 @@
-#include "variational_field.h"
+#include "geometry/variational/variational_field.h"
 
 #include <algorithm>
 #include <cmath>

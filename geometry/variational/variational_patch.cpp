@@ -1,4 +1,4 @@
-#include "variational_patch.h"
+#include "geometry/variational/variational_patch.h"
 
 #include <cmath>
 #include <limits>

@@ -6,8 +6,8 @@
 
 #include <cmath>
 
-#include "geometry/embree_implicit_geometry.h"
-#include "geometry/field_parser.h"
+#include "geometry/tracing/embree_implicit_geometry.h"
+#include "geometry/description/field_parser.h"
 
 using namespace isotrace::geometry;
 

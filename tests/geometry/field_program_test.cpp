@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <random>
+#include <set>
 
 #include "geometry/fields/revolved_profile.h"
 #include "support/field_catalog.h"
@@ -149,6 +150,24 @@ TEST_P(EveryField, PrunedProgramEqualsFieldInsideItsBox) {
                 << "trial " << trial << " box " << box;
         }
     }
+}
+
+namespace {
+void collectTypes(const Json& j, std::set<std::string>& types) {
+    if (j.is_object() && j.contains("type") && j["type"].is_string()) types.insert(j["type"].get<std::string>());
+    if (j.is_structured())
+        for (const Json& child : j) collectTypes(child, types);
+}
+}  // namespace
+
+// The property tests above run over the catalog: a field type missing from
+// it would escape them.
+TEST(FieldCatalog, CoversEveryRegisteredFieldType) {
+    std::set<std::string> used;
+    collectTypes(Json::parse(isotrace::testing::kCatalogLibrary), used);
+    for (const CatalogEntry& e : fieldCatalog()) collectTypes(Json::parse(e.json), used);
+    for (const std::string& type : FieldLibrary::typeNames())
+        EXPECT_TRUE(used.count(type)) << "field type \"" << type << "\" has no entry in tests/support/field_catalog.h";
 }
 
 INSTANTIATE_TEST_SUITE_P(Catalog, EveryField, ::testing::ValuesIn(fieldCatalog()),

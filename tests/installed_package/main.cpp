@@ -4,8 +4,8 @@
 #include <cmath>
 #include <cstdio>
 
-#include "geometry/embree_implicit_geometry.h"
-#include "geometry/field_parser.h"
+#include "geometry/tracing/embree_implicit_geometry.h"
+#include "geometry/description/field_parser.h"
 
 int main() {
     using namespace isotrace::geometry;

@@ -2,8 +2,8 @@
 
 #include <gtest/gtest.h>
 
-#include "geometry/field_parser.h"
-#include "geometry/polygonizer.h"
+#include "geometry/description/field_parser.h"
+#include "geometry/meshing/polygonizer.h"
 #include "renderer/triangle_mesh.h"
 #include "support/temporary_files.h"
 

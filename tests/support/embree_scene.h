@@ -6,7 +6,7 @@
 
 #include <limits>
 
-#include "geometry/embree_implicit_geometry.h"
+#include "geometry/tracing/embree_implicit_geometry.h"
 
 namespace isotrace::testing {
 

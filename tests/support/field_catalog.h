@@ -6,7 +6,7 @@
 #include <utility>
 #include <vector>
 
-#include "geometry/field_parser.h"
+#include "geometry/description/field_parser.h"
 
 namespace isotrace::testing {
 

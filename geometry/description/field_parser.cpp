@@ -1,0 +1,512 @@
+#include "geometry/description/field_parser.h"
+
+#include "geometry/description/transform_description.h"
+#include "geometry/description/variational_description.h"
+
+#include <Eigen/SVD>
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <functional>
+#include <map>
+#include <numbers>
+#include <random>
+#include <sstream>
+
+namespace isotrace::geometry {
+
+namespace {
+
+class Compiler;
+using FieldFactory = std::function<uint32_t(Compiler&, JsonObjectReader&, const LeafPlacement&)>;
+const std::map<std::string, FieldFactory>& registry();
+
+class Compiler {
+public:
+    Compiler(const Json& library, std::string libraryPointer, std::string file)
+        : library_(library), libraryPointer_(std::move(libraryPointer)), file_(std::move(file)) {}
+
+    FieldProgram program;
+
+    const std::string& file() const { return file_; }
+
+    /// A field compiled on its own (names resolve in the same library, with
+    /// the same cycle check).
+    FieldProgram compileAlone(const Json& description, const std::string& pointer) {
+        Compiler alone(library_, libraryPointer_, file_);
+        alone.stack_ = stack_;
+        alone.node(description, pointer, {});
+        return std::move(alone.program);
+    }
+
+    /// The description a name stands for, and its pointer.
+    std::pair<const Json*, std::string> describe(const std::string& name, const std::string& pointer) {
+        if (!library_.contains(name)) {
+            std::vector<std::string> names;
+            for (auto it = library_.begin(); it != library_.end(); ++it) names.push_back(it.key());
+            std::string message = "unknown field \"" + name + "\"";
+            if (auto near = nearestName(name, names)) message += " (did you mean \"" + *near + "\"?)";
+            throw InputError(file_, pointer, message);
+        }
+        return {&library_.at(name), jsonPointerAppend(libraryPointer_, name)};
+    }
+
+    uint32_t node(const Json& j, const std::string& pointer, const LeafPlacement& placement) {
+        if (j.is_string()) return reference(j.get<std::string>(), pointer, placement);
+        if (!j.is_object())
+            throw InputError(file_, pointer, "expected a field name or a field description object");
+        JsonObjectReader reader(j, pointer, file_);
+        std::vector<std::string> types;
+        for (const auto& [name, factory] : registry()) types.push_back(name);
+        const std::string type = reader.choice("type", types, "");
+        const Json* lipschitzClaim = reader.optionalValue("lipschitz");
+        const Json* bounds = reader.optionalValue("bounds");
+        const uint32_t slot = registry().at(type)(*this, reader, placement);
+        reader.finish();
+        if (bounds) program.narrowSlotBounds(slot, worldBox(readBox(*bounds, reader.pointerOf("bounds")), placement));
+        if (lipschitzClaim) checkLipschitzClaim(j, reader, *lipschitzClaim);
+        return slot;
+    }
+
+    /// The operands listed under "of" (at least `minimum`).
+    std::vector<uint32_t> operands(JsonObjectReader& reader, const LeafPlacement& placement, size_t minimum) {
+        const Json& of = reader.value("of");
+        const std::string pointer = reader.pointerOf("of");
+        if (!of.is_array()) throw InputError(file_, pointer, "expected an array of fields");
+        if (of.size() < minimum)
+            throw InputError(file_, pointer, "needs at least " + std::to_string(minimum) + " operand" +
+                                                 (minimum == 1 ? "" : "s") + ", found " + std::to_string(of.size()));
+        std::vector<uint32_t> slots;
+        for (size_t i = 0; i < of.size(); ++i) slots.push_back(node(of[i], jsonPointerAppend(pointer, i), placement));
+        return slots;
+    }
+    /// The single operand under "of" (a name, a description, or a one-element array).
+    uint32_t operand(JsonObjectReader& reader, const LeafPlacement& placement) {
+        const Json& of = reader.value("of");
+        if (of.is_array()) {
+            if (of.size() != 1) reader.fail("of", "expected exactly one field, found " + std::to_string(of.size()));
+            return node(of[0], reader.pointerOf("of") + "/0", placement);
+        }
+        return node(of, reader.pointerOf("of"), placement);
+    }
+
+    Box3 readBox(const Json& j, const std::string& pointer) const {
+        if (!j.is_array() || j.size() != 2)
+            throw InputError(file_, pointer, "expected [[xmin, ymin, zmin], [xmax, ymax, zmax]]");
+        const Vec3 lo = JsonObjectReader::asVec3(j[0], pointer + "/0", file_);
+        const Vec3 hi = JsonObjectReader::asVec3(j[1], pointer + "/1", file_);
+        if ((lo.array() >= hi.array()).any())
+            throw InputError(file_, pointer, "each minimum must be less than its maximum");
+        return {lo, hi};
+    }
+    static Box3 worldBox(const Box3& local, const LeafPlacement& placement) {
+        if (placement.identity) return local;
+        const Mat3 inverse = placement.linear.inverse();
+        return transformBox(inverse, -inverse * placement.offset, local);
+    }
+
+private:
+    uint32_t reference(const std::string& name, const std::string& pointer, const LeafPlacement& placement) {
+        const auto [description, at] = describe(name, pointer);
+        if (std::find(stack_.begin(), stack_.end(), name) != stack_.end()) {
+            std::string chain;
+            for (auto it = std::find(stack_.begin(), stack_.end(), name); it != stack_.end(); ++it) chain += *it + " -> ";
+            throw InputError(file_, pointer, "cycle in the field graph: " + chain + name);
+        }
+        stack_.push_back(name);
+        const uint32_t slot = node(*description, at, placement);
+        stack_.pop_back();
+        return slot;
+    }
+
+    // A bound written in a description is checked against the gradient at
+    // many points of the field's bounds; it never replaces the proven bounds.
+    void checkLipschitzClaim(const Json& description, JsonObjectReader& reader, const Json& claimJson) {
+        const double claim = JsonObjectReader::asNumber(claimJson, reader.pointerOf("lipschitz"), file_);
+        if (!(claim > 0)) reader.fail("lipschitz", "must be greater than 0");
+        Compiler alone(library_, libraryPointer_, file_);
+        alone.stack_ = stack_;
+        Json copy = description;
+        copy.erase("lipschitz");
+        alone.node(copy, reader.pointer(), LeafPlacement{});
+        const Box3 box = alone.program.bounds();
+        if (!box.isFinite() || box.isEmpty())
+            reader.fail("lipschitz", "cannot check a Lipschitz bound of an unbounded field; give \"bounds\"");
+        std::mt19937_64 rng(12345);
+        std::uniform_real_distribution<double> u(0.0, 1.0);
+        double worst = 0.0;
+        Vec3 worstAt = box.center();
+        for (int i = 0; i < 20000; ++i) {
+            const Vec3 p = box.lower + Vec3(u(rng), u(rng), u(rng)).cwiseProduct(box.extent());
+            Vec3 g;
+            alone.program.valueAndGradient(p, g);
+            if (g.norm() > worst) {
+                worst = g.norm();
+                worstAt = p;
+            }
+        }
+        if (worst > claim * (1.0 + 1e-9)) {
+            std::ostringstream s;
+            s << "declared Lipschitz bound " << claim << " is violated: the gradient's length is " << worst
+              << " at (" << worstAt.x() << ", " << worstAt.y() << ", " << worstAt.z() << ")";
+            reader.fail("lipschitz", s.str());
+        }
+    }
+
+    const Json& library_;
+    std::string libraryPointer_;
+    std::string file_;
+    std::vector<std::string> stack_;
+};
+
+// ---- primitives -----------------------------------------------------------
+
+uint32_t makeSphere(Compiler& c, JsonObjectReader& r, const LeafPlacement& p) {
+    return c.program.addLeaf(SphereField{r.vec3("center", Vec3::Zero()), r.positiveNumber("radius")}, p);
+}
+
+uint32_t makeBox(Compiler& c, JsonObjectReader& r, const LeafPlacement& p) {
+    BoxField box;
+    box.center = r.vec3("center", Vec3::Zero());
+    const Vec3 size = r.vec3("size");
+    if ((size.array() <= 0).any()) r.fail("size", "every edge length must be greater than 0");
+    box.halfSize = 0.5 * size;
+    box.rounding = r.number("rounding", 0.0);
+    if (box.rounding < 0 || box.rounding > box.halfSize.minCoeff())
+        r.fail("rounding", "must be between 0 and half the shortest edge");
+    return c.program.addLeaf(box, p);
+}
+
+uint32_t makeTorus(Compiler& c, JsonObjectReader& r, const LeafPlacement& p) {
+    TorusField t{r.vec3("center", Vec3::Zero()), r.positiveNumber("major"), r.positiveNumber("minor")};
+    return c.program.addLeaf(t, p);
+}
+
+uint32_t makeCylinder(Compiler& c, JsonObjectReader& r, const LeafPlacement& p) {
+    return c.program.addLeaf(RevolvedProfileField::cylinder(r.vec3("center", Vec3::Zero()), r.positiveNumber("radius"),
+                                                            r.positiveNumber("height")),
+                             p);
+}
+
+uint32_t makeCone(Compiler& c, JsonObjectReader& r, const LeafPlacement& p) {
+    const Vec3 center = r.vec3("center", Vec3::Zero());
+    const double radius = r.positiveNumber("radius");
+    const double top = r.number("top_radius", 0.0);
+    if (top < 0) r.fail("top_radius", "must not be negative");
+    return c.program.addLeaf(RevolvedProfileField::cone(center, radius, top, r.positiveNumber("height")), p);
+}
+
+uint32_t makeCapsule(Compiler& c, JsonObjectReader& r, const LeafPlacement& p) {
+    PolylineDistanceField f{{r.vec3("from"), r.vec3("to")}, r.positiveNumber("radius")};
+    return c.program.addLeaf(f, p);
+}
+
+uint32_t makePlane(Compiler& c, JsonObjectReader& r, const LeafPlacement& p) {
+    const Vec3 n = r.vec3("normal", Vec3(0, 1, 0));
+    if (!(n.norm() > 0)) r.fail("normal", "must not be the zero vector");
+    return c.program.addLeaf(PlaneField{n.normalized(), r.number("offset", 0.0)}, p);
+}
+
+uint32_t makeEllipsoid(Compiler& c, JsonObjectReader& r, const LeafPlacement& p) {
+    const Vec3 radii = r.vec3("radii");
+    if ((radii.array() <= 0).any()) r.fail("radii", "every radius must be greater than 0");
+    return c.program.addLeaf(EllipsoidField{r.vec3("center", Vec3::Zero()), radii}, p);
+}
+
+// ---- algebraic surfaces ---------------------------------------------------
+
+Box3 requiredDomain(Compiler& c, JsonObjectReader& r, const char* what) {
+    const Json* b = r.optionalValue("domain");
+    if (!b) r.failHere(std::string(what) + " needs a \"domain\" box [[xmin, ymin, zmin], [xmax, ymax, zmax]] to search");
+    return c.readBox(*b, r.pointerOf("domain"));
+}
+
+uint32_t makeQuadric(Compiler& c, JsonObjectReader& r, const LeafPlacement& p) {
+    const std::vector<double> k = r.numbers("coefficients");
+    if (k.size() != 10)
+        r.fail("coefficients", "expected 10 numbers (xx yy zz xy yz xz x y z 1), found " + std::to_string(k.size()));
+    const std::array<std::array<int, 3>, 10> powers{{{2, 0, 0}, {0, 2, 0}, {0, 0, 2}, {1, 1, 0}, {0, 1, 1},
+                                                     {1, 0, 1}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {0, 0, 0}}};
+    std::vector<PolynomialTerm> terms;
+    for (int i = 0; i < 10; ++i) terms.push_back({k[i], powers[i]});
+    Polynomial poly(terms);
+    if (poly.terms().empty()) r.fail("coefficients", "all coefficients are zero");
+    return c.program.addLeaf(PolynomialField(poly, requiredDomain(c, r, "a quadric")), p);
+}
+
+uint32_t makePolynomial(Compiler& c, JsonObjectReader& r, const LeafPlacement& p) {
+    if (r.has("preset")) {
+        const std::string name = r.choice("preset", polynomialPresetNames(), "");
+        PolynomialField field = polynomialPreset(name);
+        if (const Json* d = r.optionalValue("domain")) field.domain = c.readBox(*d, r.pointerOf("domain"));
+        return c.program.addLeaf(field, p);
+    }
+    const Json& terms = r.value("terms");
+    const std::string pointer = r.pointerOf("terms");
+    if (!terms.is_array() || terms.empty())
+        throw InputError(c.file(), pointer, "expected a non-empty array of [coefficient, i, j, k] terms");
+    std::vector<PolynomialTerm> out;
+    for (size_t i = 0; i < terms.size(); ++i) {
+        const std::string tp = jsonPointerAppend(pointer, i);
+        const Json& t = terms[i];
+        if (!t.is_array() || t.size() != 4)
+            throw InputError(c.file(), tp, "expected [coefficient, power of x, power of y, power of z]");
+        PolynomialTerm term;
+        term.coefficient = JsonObjectReader::asNumber(t[0], tp + "/0", c.file());
+        for (int a = 0; a < 3; ++a) {
+            const double v = JsonObjectReader::asNumber(t[a + 1], tp + "/" + std::to_string(a + 1), c.file());
+            if (v < 0 || v > Polynomial::kMaxDegree || std::floor(v) != v)
+                throw InputError(c.file(), tp + "/" + std::to_string(a + 1),
+                                 "powers are whole numbers from 0 to " + std::to_string(Polynomial::kMaxDegree));
+            term.powers[a] = static_cast<int>(v);
+        }
+        out.push_back(term);
+    }
+    Polynomial poly(out);
+    if (poly.terms().empty()) r.fail("terms", "every coefficient is zero");
+    return c.program.addLeaf(PolynomialField(poly, requiredDomain(c, r, "a polynomial")), p);
+}
+
+// ---- blobs, distance and convolution surfaces ----------------------------
+
+uint32_t makeBlobby(Compiler& c, JsonObjectReader& r, const LeafPlacement& p) {
+    BlobbyField f;
+    const std::string kernel = r.choice("kernel", {"blinn", "metaball", "soft"}, "metaball");
+    f.kernel = kernel == "blinn" ? BlobKernel::Blinn : kernel == "soft" ? BlobKernel::SoftObject : BlobKernel::Metaball;
+    f.threshold = r.positiveNumber("threshold", 0.5);
+    f.blobbiness = r.positiveNumber("blobbiness", 4.0);
+    const Json& blobs = r.value("blobs");
+    const std::string pointer = r.pointerOf("blobs");
+    if (!blobs.is_array() || blobs.empty()) throw InputError(c.file(), pointer, "expected a non-empty array of blobs");
+    for (size_t i = 0; i < blobs.size(); ++i) {
+        JsonObjectReader b(blobs[i], jsonPointerAppend(pointer, i), c.file());
+        f.blobs.push_back({b.vec3("center"), b.positiveNumber("radius"), b.number("weight", 1.0)});
+        b.finish();
+    }
+    return c.program.addLeaf(std::move(f), p);
+}
+
+uint32_t makeDistance(Compiler& c, JsonObjectReader& r, const LeafPlacement& p) {
+    const double radius = r.positiveNumber("radius");
+    if (r.has("circle")) {
+        // Distance to a circle: a torus whose y axis is turned onto the normal.
+        JsonObjectReader circle = r.object("circle");
+        const Vec3 center = circle.vec3("center", Vec3::Zero());
+        const Vec3 normal = circle.vec3("normal", Vec3(0, 1, 0));
+        const double circleRadius = circle.positiveNumber("radius");
+        circle.finish();
+        if (!(normal.norm() > 0)) circle.fail("normal", "must not be the zero vector");
+        const Mat3 rotation = Eigen::Quaterniond::FromTwoVectors(Vec3(0, 1, 0), normal.normalized()).toRotationMatrix();
+        // child = R^T (parent - center)
+        const LeafPlacement placed = p.composed(rotation.transpose(), -rotation.transpose() * center, 1.0);
+        return c.program.addLeaf(TorusField{Vec3::Zero(), circleRadius, radius}, placed);
+    }
+    const Json& points = r.value("points");
+    const std::string pointer = r.pointerOf("points");
+    if (!points.is_array() || points.empty())
+        throw InputError(c.file(), pointer, "expected an array of points: one (a point), two (a segment) or more (a polyline)");
+    PolylineDistanceField f;
+    f.radius = radius;
+    for (size_t i = 0; i < points.size(); ++i)
+        f.points.push_back(JsonObjectReader::asVec3(points[i], jsonPointerAppend(pointer, i), c.file()));
+    return c.program.addLeaf(std::move(f), p);
+}
+
+uint32_t makeConvolution(Compiler& c, JsonObjectReader& r, const LeafPlacement& p) {
+    ConvolutionField f;
+    f.threshold = r.positiveNumber("threshold", 0.5);
+    const Json& segments = r.value("segments");
+    const std::string pointer = r.pointerOf("segments");
+    if (!segments.is_array() || segments.empty())
+        throw InputError(c.file(), pointer, "expected a non-empty array of segments");
+    for (size_t i = 0; i < segments.size(); ++i) {
+        JsonObjectReader s(segments[i], jsonPointerAppend(pointer, i), c.file());
+        ConvolutionSegment seg{s.vec3("from"), s.vec3("to"), s.positiveNumber("radius"), s.number("weight", 1.0)};
+        if (!((seg.b - seg.a).norm() > 0)) s.fail("to", "a segment needs two distinct ends");
+        s.finish();
+        f.segments.push_back(seg);
+    }
+    return c.program.addLeaf(std::move(f), p);
+}
+
+// ---- variational implicit surfaces (Turk and O'Brien) ---------------------
+
+uint32_t makeVariational(Compiler& c, JsonObjectReader& r, const LeafPlacement& p) {
+    VariationalContext context;
+    // Files named in the description are relative to the scene file.
+    context.baseDirectory = std::filesystem::path(c.file()).parent_path().string();
+    context.compile = [&](const Json& field, const std::string& pointer) { return c.compileAlone(field, pointer); };
+    context.describe = [&](const std::string& name, const std::string& pointer) { return c.describe(name, pointer); };
+    return c.program.addLeaf(VariationalLeafField{variationalFieldFromDescription(r, context)}, p);
+}
+
+// ---- operators -----------------------------------------------------------
+
+// Folds operands pairwise as a balanced tree, so pruning can drop whole halves.
+uint32_t fold(Compiler& c, std::vector<uint32_t> slots, FieldOp op, double parameter) {
+    while (slots.size() > 1) {
+        std::vector<uint32_t> next;
+        for (size_t i = 0; i + 1 < slots.size(); i += 2) next.push_back(c.program.addBinary(op, slots[i], slots[i + 1], parameter));
+        if (slots.size() % 2) next.push_back(slots.back());
+        slots = std::move(next);
+    }
+    return slots[0];
+}
+
+uint32_t makeUnion(Compiler& c, JsonObjectReader& r, const LeafPlacement& p) {
+    return fold(c, c.operands(r, p, 1), FieldOp::Min, 0.0);
+}
+uint32_t makeIntersection(Compiler& c, JsonObjectReader& r, const LeafPlacement& p) {
+    return fold(c, c.operands(r, p, 1), FieldOp::Max, 0.0);
+}
+// a minus the union of the rest: max(a, -(b1 u b2 ...)).
+uint32_t makeDifference(Compiler& c, JsonObjectReader& r, const LeafPlacement& p) {
+    std::vector<uint32_t> s = c.operands(r, p, 2);
+    const uint32_t rest = fold(c, std::vector<uint32_t>(s.begin() + 1, s.end()), FieldOp::Min, 0.0);
+    return c.program.addBinary(FieldOp::Max, s[0], c.program.addUnary(FieldOp::Negate, rest));
+}
+uint32_t makeComplement(Compiler& c, JsonObjectReader& r, const LeafPlacement& p) {
+    return c.program.addUnary(FieldOp::Negate, c.operand(r, p));
+}
+
+double blendRadius(JsonObjectReader& r, const LeafPlacement& p) {
+    // A placement scales values by valueScale; the blend radius follows.
+    return r.positiveNumber("radius") * p.valueScale;
+}
+uint32_t makeSmoothUnion(Compiler& c, JsonObjectReader& r, const LeafPlacement& p) {
+    const double k = blendRadius(r, p);
+    return fold(c, c.operands(r, p, 1), FieldOp::SmoothMin, k);
+}
+uint32_t makeSmoothIntersection(Compiler& c, JsonObjectReader& r, const LeafPlacement& p) {
+    const double k = blendRadius(r, p);
+    return fold(c, c.operands(r, p, 1), FieldOp::SmoothMax, k);
+}
+uint32_t makeSmoothDifference(Compiler& c, JsonObjectReader& r, const LeafPlacement& p) {
+    const double k = blendRadius(r, p);
+    std::vector<uint32_t> s = c.operands(r, p, 2);
+    const uint32_t rest = fold(c, std::vector<uint32_t>(s.begin() + 1, s.end()), FieldOp::SmoothMin, k);
+    return c.program.addBinary(FieldOp::SmoothMax, s[0], c.program.addUnary(FieldOp::Negate, rest), k);
+}
+
+uint32_t makeOffset(Compiler& c, JsonObjectReader& r, const LeafPlacement& p) {
+    const double distance = r.number("distance");
+    const uint32_t a = c.operand(r, p);
+    return c.program.addUnary(FieldOp::AddConstant, a, -distance * p.valueScale);
+}
+
+uint32_t makeTransform(Compiler& c, JsonObjectReader& r, const LeafPlacement& p) {
+    // parent = T R S child: scale first, then rotate, then translate.
+    const AffineDescription affine = readScaleRotateTranslate(r);
+    const Mat3& a = affine.linear;
+    const Vec3& translate = affine.translation;
+    const Mat3 inverse = a.inverse();
+    const double sigma = Eigen::JacobiSVD<Mat3>(a).singularValues()(2);
+    return c.operand(r, p.composed(inverse, -inverse * translate, sigma));
+}
+
+const std::map<std::string, FieldFactory>& registry() {
+    static const std::map<std::string, FieldFactory> factories{
+        {"sphere", makeSphere},
+        {"box", makeBox},
+        {"torus", makeTorus},
+        {"cylinder", makeCylinder},
+        {"cone", makeCone},
+        {"capsule", makeCapsule},
+        {"plane", makePlane},
+        {"ellipsoid", makeEllipsoid},
+        {"quadric", makeQuadric},
+        {"polynomial", makePolynomial},
+        {"blobby", makeBlobby},
+        {"distance", makeDistance},
+        {"convolution", makeConvolution},
+        {"variational", makeVariational},
+        {"union", makeUnion},
+        {"intersection", makeIntersection},
+        {"difference", makeDifference},
+        {"complement", makeComplement},
+        {"smooth_union", makeSmoothUnion},
+        {"smooth_intersection", makeSmoothIntersection},
+        {"smooth_difference", makeSmoothDifference},
+        {"offset", makeOffset},
+        {"transform", makeTransform},
+    };
+    return factories;
+}
+
+}  // namespace
+
+std::vector<std::string> polynomialPresetNames() { return {"tangle", "heart", "decocube", "pretzel2", "pretzel4"}; }
+
+PolynomialField polynomialPreset(const std::string& name) {
+    const Polynomial x = Polynomial::variable(0), y = Polynomial::variable(1), z = Polynomial::variable(2);
+    auto k = [](double v) { return Polynomial::constant(v); };
+    if (name == "tangle") {
+        // Goursat's tangle cube: x^4 - 5x^2 + y^4 - 5y^2 + z^4 - 5z^2 + 11.8 = 0.
+        Polynomial p = x.power(4) - 5.0 * x.power(2) + y.power(4) - 5.0 * y.power(2) + z.power(4) - 5.0 * z.power(2) + k(11.8);
+        return PolynomialField(p, Box3(Vec3::Constant(-3), Vec3::Constant(3)));
+    }
+    if (name == "heart") {
+        // Taubin's heart, turned y-up: (x^2 + 9/4 z^2 + y^2 - 1)^3 - x^2 y^3 - 9/80 z^2 y^3 = 0.
+        Polynomial p = (x.power(2) + 2.25 * z.power(2) + y.power(2) - k(1)).power(3) - x.power(2) * y.power(3) -
+                       (9.0 / 80.0) * z.power(2) * y.power(3);
+        return PolynomialField(p, Box3(Vec3(-1.5, -1.5, -1.0), Vec3(1.5, 1.5, 1.0)));
+    }
+    if (name == "decocube") {
+        const Polynomial c2 = k(0.64);
+        auto arm = [&](const Polynomial& a, const Polynomial& b, const Polynomial& c) {
+            return (a.power(2) + b.power(2) - c2).power(2) + (c.power(2) - k(1)).power(2);
+        };
+        Polynomial p = arm(x, y, z) * arm(y, z, x) * arm(z, x, y) - k(0.04);
+        return PolynomialField(p, Box3(Vec3::Constant(-1.6), Vec3::Constant(1.6)));
+    }
+    if (name == "pretzel2") {
+        // A tube around Gerono's lemniscate y^2 = x^2 (1 - x^2): two holes.
+        Polynomial p = (x.power(2) * (k(1) - x.power(2)) - y.power(2)).power(2) + 0.5 * z.power(2) - k(0.01);
+        return PolynomialField(p, Box3(Vec3(-1.3, -0.9, -0.4), Vec3(1.3, 0.9, 0.4)));
+    }
+    if (name == "pretzel4") {
+        // A tube around y^2 = 16 x^2 (1 - x^2)(x^2 - 1/2)^2: four lobes in a
+        // row, equally tall because the double root sits at x^2 = 1/2.
+        Polynomial curve = 16.0 * x.power(2) * (k(1) - x.power(2)) * (x.power(2) - k(0.5)).power(2);
+        Polynomial p = (curve - y.power(2)).power(2) + 0.5 * z.power(2) - k(0.0036);
+        return PolynomialField(p, Box3(Vec3(-1.2, -0.8, -0.25), Vec3(1.2, 0.8, 0.25)));
+    }
+    throw std::invalid_argument("unknown polynomial preset " + name);
+}
+
+FieldLibrary::FieldLibrary(const Json& fields, std::string pointer, std::string file)
+    : fields_(fields), pointer_(std::move(pointer)), file_(std::move(file)) {
+    if (!fields_.is_object()) throw InputError(file_, pointer_, "expected an object mapping field names to descriptions");
+}
+
+bool FieldLibrary::contains(const std::string& name) const { return fields_.contains(name); }
+
+std::vector<std::string> FieldLibrary::names() const {
+    std::vector<std::string> out;
+    for (auto it = fields_.begin(); it != fields_.end(); ++it) out.push_back(it.key());
+    return out;
+}
+
+FieldProgram FieldLibrary::compile(const std::string& name) const {
+    Compiler compiler(fields_, pointer_, file_);
+    compiler.node(Json(name), pointer_, LeafPlacement{});
+    return std::move(compiler.program);
+}
+
+FieldProgram FieldLibrary::compileDescription(const Json& description, const std::string& pointer) const {
+    Compiler compiler(fields_, pointer_, file_);
+    compiler.node(description, pointer, LeafPlacement{});
+    return std::move(compiler.program);
+}
+
+std::vector<std::string> FieldLibrary::typeNames() {
+    std::vector<std::string> out;
+    for (const auto& [name, factory] : registry()) out.push_back(name);
+    return out;
+}
+
+void FieldLibrary::validateAll() const {
+    for (const std::string& name : names()) compile(name);
+}
+
+}  // namespace isotrace::geometry

@@ -1,0 +1,47 @@
+// Field descriptions (the JSON of a scene's "fields") turned into compiled
+// FieldPrograms. This is the one parser of field descriptions: the renderer
+// and any host using the plugin API share it. See docs/scene-format.md for
+// every type and parameter.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "geometry/field_program.h"
+#include "geometry/description/json_reader.h"
+
+namespace isotrace::geometry {
+
+class FieldLibrary {
+public:
+    FieldLibrary() = default;
+    /// `fields` maps names to descriptions; `pointer` is where it sits in
+    /// its file ("/fields"), `file` the file's name, both for errors.
+    FieldLibrary(const Json& fields, std::string pointer, std::string file);
+
+    bool contains(const std::string& name) const;
+    std::vector<std::string> names() const;
+    const std::string& file() const { return file_; }
+
+    /// Compiles a named field. Unknown names, cycles in the field graph and
+    /// invalid parameters throw InputError with the JSON pointer.
+    FieldProgram compile(const std::string& name) const;
+    /// Compiles a description that may refer to the library's names.
+    FieldProgram compileDescription(const Json& description, const std::string& pointer) const;
+
+    /// The registered field type names.
+    static std::vector<std::string> typeNames();
+    /// Checks every named field (compiles each once).
+    void validateAll() const;
+
+private:
+    Json fields_ = Json::object();
+    std::string pointer_;
+    std::string file_;
+};
+
+/// Named polynomial presets: "tangle", "heart", "decocube", "pretzel2", "pretzel4".
+std::vector<std::string> polynomialPresetNames();
+PolynomialField polynomialPreset(const std::string& name);
+
+}  // namespace isotrace::geometry

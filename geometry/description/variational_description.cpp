@@ -1,0 +1,337 @@
+#include "geometry/description/variational_description.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <mutex>
+#include <unistd.h>
+
+#include "geometry/atomic_file.h"
+#include "geometry/content_hash.h"
+#include "geometry/mesh_file.h"
+#include "geometry/meshing/polygonizer.h"
+
+namespace isotrace::geometry {
+
+namespace {
+
+constexpr const char* kFormatKey = "isotrace_variational_fit";
+constexpr int kFormatVersion = 1;
+// Part of the cache key: bump when the fit's result changes for the same
+// input (solver, domain choice), so stale cache entries are not reused.
+constexpr const char* kFitRevision = "r3-qr-llt-2";
+
+std::string resolved(const std::string& name, const std::string& baseDirectory) {
+    const std::filesystem::path p(name);
+    return p.is_absolute() || baseDirectory.empty() ? name : (std::filesystem::path(baseDirectory) / p).string();
+}
+
+// An array of rows of `width` finite numbers.
+std::vector<std::vector<double>> rows(JsonObjectReader& r, const std::string& key, size_t width, const char* shape) {
+    std::vector<std::vector<double>> out;
+    const Json* j = r.optionalValue(key);
+    if (!j) return out;
+    const std::string pointer = r.pointerOf(key);
+    if (!j->is_array()) throw InputError(r.file(), pointer, std::string("expected an array of ") + shape);
+    for (size_t i = 0; i < j->size(); ++i) {
+        const Json& row = (*j)[i];
+        const std::string at = jsonPointerAppend(pointer, i);
+        if (!row.is_array() || row.size() != width) throw InputError(r.file(), at, std::string("expected ") + shape);
+        std::vector<double> v;
+        for (size_t k = 0; k < width; ++k) {
+            if (!row[k].is_number() || !std::isfinite(row[k].get<double>()))
+                throw InputError(r.file(), jsonPointerAppend(at, k), "expected a finite number");
+            v.push_back(row[k].get<double>());
+        }
+        out.push_back(std::move(v));
+    }
+    return out;
+}
+
+Vec3 vec(const std::vector<double>& v, size_t first) { return {v[first], v[first + 1], v[first + 2]}; }
+
+Json vecJson(const Vec3& v) { return Json::array({v.x(), v.y(), v.z()}); }
+
+std::mutex cacheMutex;
+std::map<std::string, std::shared_ptr<const VariationalField>>& memoryCache() {
+    static std::map<std::string, std::shared_ptr<const VariationalField>> cache;
+    return cache;
+}
+
+}  // namespace
+
+namespace {
+
+// Oriented points on the surface of any field: the vertices of a
+// marching-cubes mesh, every k-th to get about `count`, with the field's
+// gradient directions as normals.
+std::vector<OrientedPoint> samplesOf(const FieldProgram& field, int count, JsonObjectReader& r) {
+    PolygonizeOptions options;
+    options.resolution = 48;
+    Polygonization p;
+    try {
+        p = polygonize(field, options);
+    } catch (const std::invalid_argument& e) {
+        r.fail("sample", e.what());
+    }
+    if (p.mesh.vertices.empty()) r.fail("sample", "the sampled field has no surface inside its bounds");
+    const size_t stride = std::max<size_t>(1, p.mesh.vertices.size() / size_t(count));
+    std::vector<OrientedPoint> points;
+    for (size_t v = 0; v < p.mesh.vertices.size(); v += stride) points.push_back({p.mesh.vertices[v], p.mesh.normals[v]});
+    return points;
+}
+
+// The cache key: every number the fit sees, the options and the revision.
+std::string constraintHash(const ConstraintSet& c, const FitOptions& options) {
+    uint64_t h = fnv1a64(kFitRevision);
+    auto add = [&](const void* data, size_t bytes) { h = fnv1a64(std::string_view(static_cast<const char*>(data), bytes), h); };
+    for (const ValueConstraint& v : c.values) add(&v, sizeof v);
+    for (const GradientConstraint& g : c.gradients) add(&g, sizeof g);
+    add(&options.domainMargin, sizeof options.domainMargin);
+    add(&options.maxUnknowns, sizeof options.maxUnknowns);
+    return hexDigest(h);
+}
+
+std::vector<OrientedPoint> pointsFromFile(JsonObjectReader& r, const char* key, const std::string& base, Json& provenance,
+                                          bool mesh) {
+    const std::string name = r.string(key), path = resolved(name, base);
+    std::vector<OrientedPoint> points;
+    try {
+        points = mesh ? orientedPointsOfMesh(readMeshFile(path)) : readOrientedPoints(path);
+    } catch (const InputError& e) {
+        throw InputError(r.file(), r.pointerOf(key), e.what());
+    }
+    uint64_t fileHash = kFnvOffsetBasis;
+    fnv1a64File(path, fileHash);
+    provenance[key] = {{"file", name}, {"hash", hexDigest(fileHash)}, {"count", points.size()}};
+    return points;
+}
+
+}  // namespace
+
+VariationalSource readVariationalSource(JsonObjectReader& r, VariationalContext& context) {
+    VariationalSource source;
+    Json provenance = Json::object();
+
+    // Oriented points from files, sampled fields and inline "normals".
+    std::vector<OrientedPoint> oriented;
+    if (r.has("points")) oriented = pointsFromFile(r, "points", context.baseDirectory, provenance, false);
+    if (r.has("mesh")) {
+        const std::vector<OrientedPoint> m = pointsFromFile(r, "mesh", context.baseDirectory, provenance, true);
+        oriented.insert(oriented.end(), m.begin(), m.end());
+    }
+    if (r.has("sample")) {
+        if (!context.compile) r.fail("sample", "sampling other fields is not available here");
+        const int count = int(r.integer("count", 200, 4, 100000));
+        const std::vector<OrientedPoint> s = samplesOf(context.compile(r.value("sample"), r.pointerOf("sample")), count, r);
+        oriented.insert(oriented.end(), s.begin(), s.end());
+        provenance["sample"] = {{"field", r.value("sample")}, {"count", s.size()}};
+    }
+    for (const auto& v : rows(r, "normals", 6, "[x, y, z, nx, ny, nz] rows")) {
+        const Vec3 n = vec(v, 3);
+        if (!(n.norm() > 0)) r.fail("normals", "a normal is the zero vector");
+        oriented.push_back({vec(v, 0), n.normalized()});
+    }
+    const bool hermite = r.boolean("hermite", false);
+    const double offset = r.has("normal_offset") ? r.positiveNumber("normal_offset") : defaultNormalOffset(oriented);
+    source.constraints = constraintsFromOrientedPoints(oriented, offset, hermite);
+
+    ConstraintSet& c = source.constraints;
+    for (const auto& v : rows(r, "boundary", 3, "[x, y, z] rows")) c.addBoundary(vec(v, 0));
+    for (const auto& v : rows(r, "interior", 3, "[x, y, z] rows")) c.addInterior(vec(v, 0));
+    for (const auto& v : rows(r, "exterior", 3, "[x, y, z] rows")) c.addExterior(vec(v, 0));
+    for (const auto& v : rows(r, "values", 4, "[x, y, z, value] rows")) c.values.push_back({vec(v, 0), v[3]});
+    for (const auto& v : rows(r, "gradients", 6, "[x, y, z, gx, gy, gz] rows")) c.gradients.push_back({vec(v, 0), vec(v, 3)});
+    source.options.domainMargin = r.has("margin") ? r.positiveNumber("margin") : source.options.domainMargin;
+
+    // Blending (Turk and O'Brien 2002, section 6): each operand keeps the
+    // constraints that lie outside every other operand; one more fit joins
+    // them without the bulge of a function sum.
+    if (const Json* blend = r.optionalValue("blend")) {
+        const std::string pointer = r.pointerOf("blend");
+        if (!blend->is_array() || blend->size() < 2)
+            throw InputError(r.file(), pointer, "expected an array of at least two variational fields");
+        std::vector<VariationalSource> parts;
+        std::vector<std::shared_ptr<const VariationalField>> fields;
+        Json partProvenance = Json::array();
+        for (size_t i = 0; i < blend->size(); ++i) {
+            const Json* description = &(*blend)[i];
+            std::string at = jsonPointerAppend(pointer, i);
+            bool named = false;
+            if (description->is_string()) {
+                const std::string name = description->get<std::string>();
+                if (std::find(context.blendStack.begin(), context.blendStack.end(), name) != context.blendStack.end())
+                    throw InputError(r.file(), at, "cycle in the blend: \"" + name + "\" blends itself");
+                if (!context.describe) throw InputError(r.file(), at, "named operands are not available here");
+                std::tie(description, at) = context.describe(name, at);
+                context.blendStack.push_back(name);
+                named = true;
+            }
+            JsonObjectReader part(*description, at, r.file());
+            if (part.string("type") != "variational")
+                part.fail("type", "blend operands must be variational fields");
+            parts.push_back(readVariationalSource(part, context));
+            part.finish();
+            if (named) context.blendStack.pop_back();
+            fields.push_back(fitCached(parts.back(), part));
+            partProvenance.push_back(parts.back().provenance);
+        }
+        auto outsideOthers = [&](size_t self, const Vec3& p) {
+            for (size_t j = 0; j < fields.size(); ++j)
+                if (j != self && !(fields[j]->value(p) > 0)) return false;
+            return true;
+        };
+        Json kept = Json::array();
+        for (size_t i = 0; i < parts.size(); ++i) {
+            size_t n = 0;
+            for (const ValueConstraint& v : parts[i].constraints.values)
+                if (outsideOthers(i, v.position)) c.values.push_back(v), ++n;
+            for (const GradientConstraint& g : parts[i].constraints.gradients)
+                if (outsideOthers(i, g.position)) c.gradients.push_back(g), ++n;
+            kept.push_back(n);
+        }
+        provenance["blend"] = {{"operands", partProvenance}, {"kept_constraints", kept}};
+    }
+
+    if (c.values.empty() && c.gradients.empty())
+        r.failHere("a variational field needs constraints: \"points\", \"mesh\", \"sample\", \"normals\", "
+                   "\"boundary\", \"interior\", \"exterior\", \"values\", \"gradients\" or \"blend\" (or \"fitted\")");
+    provenance["normal_offset"] = offset;
+    provenance["hermite"] = hermite;
+    source.provenance = provenance;
+    source.hash = constraintHash(c, source.options);
+    return source;
+}
+
+Json variationalFieldToJson(const VariationalField& f, const FitReport& report, const Json& provenance,
+                            const std::string& hash) {
+    Json centers = Json::array(), gradientCenters = Json::array(), gradientWeights = Json::array();
+    for (const Vec3& c : f.centers) centers.push_back(vecJson(c));
+    for (const Vec3& c : f.gradientCenters) gradientCenters.push_back(vecJson(c));
+    for (const Vec3& b : f.gradientWeights) gradientWeights.push_back(vecJson(b));
+    return {{kFormatKey, kFormatVersion},
+            {"source", provenance},
+            {"source_hash", hash},
+            {"fit",
+             {{"unknowns", report.unknowns},
+              {"seconds", report.seconds},
+              {"max_residual", report.maxResidual},
+              {"reciprocal_condition", report.reciprocalCondition}}},
+            {"domain", Json::array({vecJson(f.domain.lower), vecJson(f.domain.upper)})},
+            {"constant", f.constant},
+            {"linear", vecJson(f.linear)},
+            {"centers", centers},
+            {"weights", f.weights},
+            {"gradient_centers", gradientCenters},
+            {"gradient_weights", gradientWeights}};
+}
+
+VariationalField variationalFieldFromJson(const Json& json, const std::string& file) {
+    if (!json.is_object() || !json.contains(kFormatKey))
+        throw InputError(file, "", std::string("not a fitted variational field (no \"") + kFormatKey +
+                                       "\"; write one with isotrace fit)");
+    JsonObjectReader r(json, "", file);
+    const long long version = r.integer(kFormatKey, 0, 1, 1000);
+    if (version != kFormatVersion)
+        r.fail(kFormatKey, "format version " + std::to_string(version) + " is not supported (expected " +
+                               std::to_string(kFormatVersion) + ")");
+    r.value("source");
+    r.value("fit");
+    r.string("source_hash", "");
+    VariationalField f;
+    const Json& domain = r.value("domain");
+    if (!domain.is_array() || domain.size() != 2) r.fail("domain", "expected [[xmin, ymin, zmin], [xmax, ymax, zmax]]");
+    f.domain = Box3(JsonObjectReader::asVec3(domain[0], r.pointerOf("domain") + "/0", file),
+                    JsonObjectReader::asVec3(domain[1], r.pointerOf("domain") + "/1", file));
+    if (f.domain.isEmpty() || !f.domain.isFinite()) r.fail("domain", "the domain is empty or not finite");
+    f.constant = r.number("constant");
+    f.linear = r.vec3("linear");
+    auto points = [&](const char* key) {
+        std::vector<Vec3> out;
+        const Json& a = r.value(key);
+        if (!a.is_array()) r.fail(key, "expected an array of [x, y, z]");
+        for (size_t i = 0; i < a.size(); ++i) out.push_back(JsonObjectReader::asVec3(a[i], jsonPointerAppend(r.pointerOf(key), i), file));
+        return out;
+    };
+    f.centers = points("centers");
+    f.weights = r.numbers("weights");
+    f.gradientCenters = points("gradient_centers");
+    f.gradientWeights = points("gradient_weights");
+    if (f.weights.size() != f.centers.size())
+        r.fail("weights", std::to_string(f.weights.size()) + " weights for " + std::to_string(f.centers.size()) + " centers");
+    if (f.gradientWeights.size() != f.gradientCenters.size())
+        r.fail("gradient_weights", "one weight vector per gradient center expected");
+    for (size_t i = 0; i < f.weights.size(); ++i)
+        if (!std::isfinite(f.weights[i])) r.fail("weights", "weight " + std::to_string(i) + " is not finite");
+    r.finish();
+    return f;
+}
+
+std::string variationalCacheDirectory() {
+    if (const char* d = std::getenv("ISOTRACE_CACHE_DIR"); d && *d) return d;
+    if (const char* d = std::getenv("XDG_CACHE_HOME"); d && *d) return (std::filesystem::path(d) / "isotrace").string();
+    if (const char* d = std::getenv("HOME"); d && *d) return (std::filesystem::path(d) / ".cache" / "isotrace").string();
+    return "";
+}
+
+std::shared_ptr<const VariationalField> fitCached(const VariationalSource& source, const JsonObjectReader& r) {
+    {
+        std::lock_guard<std::mutex> lock(cacheMutex);
+        if (auto it = memoryCache().find(source.hash); it != memoryCache().end()) return it->second;
+    }
+    const std::string directory = variationalCacheDirectory();
+    const std::filesystem::path cached =
+        directory.empty() ? std::filesystem::path() : std::filesystem::path(directory) / ("variational-" + source.hash + ".json");
+    std::shared_ptr<const VariationalField> field;
+    if (!cached.empty() && std::filesystem::exists(cached)) {
+        try {
+            const Json j = parseJsonFile(cached.string());
+            if (j.value("source_hash", "") == source.hash)
+                field = std::make_shared<const VariationalField>(variationalFieldFromJson(j, cached.string()));
+        } catch (const std::exception&) {
+            field.reset();  // a damaged cache entry is refitted and rewritten
+        }
+    }
+    if (!field) {
+        FitReport report;
+        try {
+            field = std::make_shared<const VariationalField>(fitVariationalField(source.constraints, &report, source.options));
+        } catch (const FitError& e) {
+            throw InputError(r.file(), r.pointer(), e.what());
+        }
+        for (const std::string& w : report.warnings)
+            std::fprintf(stderr, "warning: %s: %s: %s\n", r.file().c_str(), r.pointer().c_str(), w.c_str());
+        if (!cached.empty()) {
+            // The cache is an optimisation: failing to write it is not an error.
+            try {
+                std::filesystem::create_directories(cached.parent_path());
+                writeFileAtomically(cached.string(), variationalFieldToJson(*field, report, source.provenance, source.hash).dump());
+            } catch (const std::exception&) {
+            }
+        }
+    }
+    std::lock_guard<std::mutex> lock(cacheMutex);
+    memoryCache().emplace(source.hash, field);
+    return field;
+}
+
+std::shared_ptr<const VariationalField> variationalFieldFromDescription(JsonObjectReader& r,
+                                                                         VariationalContext& context) {
+    if (r.has("fitted")) {
+        const std::string path = resolved(r.string("fitted"), context.baseDirectory);
+        r.finish();  // a misspelt key fails before any file is read
+        try {
+            return std::make_shared<const VariationalField>(variationalFieldFromJson(parseJsonFile(path), path));
+        } catch (const InputError& e) {
+            throw InputError(r.file(), r.pointerOf("fitted"), e.what());
+        }
+    }
+    const VariationalSource source = readVariationalSource(r, context);
+    r.finish();  // a misspelt key fails before a possibly long fit
+    return fitCached(source, r);
+}
+
+}  // namespace isotrace::geometry

@@ -1,0 +1,58 @@
+// The "variational" field description of scene files (docs/scene-format.md):
+// constraints inline, from an oriented point set or a polygon model, fitted
+// on load and cached by content hash; or the saved output of `isotrace fit`.
+#pragma once
+
+#include <functional>
+#include <memory>
+#include <string>
+
+#include "geometry/field_program.h"
+#include "geometry/description/json_reader.h"
+#include "geometry/variational/rbf_solver.h"
+
+namespace isotrace::geometry {
+
+/// Constraints read from a description, with what they came from.
+struct VariationalSource {
+    ConstraintSet constraints;
+    FitOptions options;
+    Json provenance;       ///< where the constraints came from (files with their hashes, counts)
+    std::string hash;      ///< of the constraints and fit options themselves: the cache key
+};
+
+/// What a description may refer to beyond files.
+struct VariationalContext {
+    std::string baseDirectory;  ///< file names are relative to it
+    /// Compiles a field (a name or a description at `pointer`), for "sample".
+    std::function<FieldProgram(const Json& field, const std::string& pointer)> compile;
+    /// The description a name stands for and its pointer, for "blend"
+    /// operands; throws InputError for unknown names.
+    std::function<std::pair<const Json*, std::string>(const std::string& name, const std::string& pointer)> describe;
+    std::vector<std::string> blendStack;  ///< names being blended, to report cycles
+};
+
+/// Reads the constraint keys of `r` (all but "fitted"). Errors are
+/// InputErrors at the key.
+VariationalSource readVariationalSource(JsonObjectReader& r, VariationalContext& context);
+
+/// The fit of a source, from the in-memory cache, the disk cache, or the
+/// solver (then cached). Fit errors become InputErrors at `r`'s pointer.
+std::shared_ptr<const VariationalField> fitCached(const VariationalSource& source, const JsonObjectReader& r);
+
+/// The field of a description: loaded from "fitted", or fitted (and cached
+/// in memory and in variationalCacheDirectory()). Fit warnings go to stderr.
+std::shared_ptr<const VariationalField> variationalFieldFromDescription(JsonObjectReader& r,
+                                                                         VariationalContext& context);
+
+/// The saved form of a fitted field: every number round-trips exactly, so a
+/// loaded field evaluates bit-identically to the fitted one.
+Json variationalFieldToJson(const VariationalField& field, const FitReport& report, const Json& provenance,
+                            const std::string& hash);
+/// Reads the saved form; malformed content throws InputError naming `file`.
+VariationalField variationalFieldFromJson(const Json& json, const std::string& file);
+
+/// $ISOTRACE_CACHE_DIR, else $XDG_CACHE_HOME/isotrace, else ~/.cache/isotrace.
+std::string variationalCacheDirectory();
+
+}  // namespace isotrace::geometry

@@ -1,0 +1,40 @@
+// Polygonization of any bounded field: the entry point that chooses between
+// uniform marching cubes and the adaptive mesher (marching cubes with
+// feature vertices, then error-bounded simplification), picks resolutions
+// for a target tolerance, and refuses requests that cannot fit in memory.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "geometry/field_program.h"
+#include "geometry/indexed_mesh.h"
+#include "geometry/meshing/marching_cubes.h"
+
+namespace isotrace::geometry {
+
+enum class PolygonizeMethod { MarchingCubes, Adaptive };
+
+struct PolygonizeOptions {
+    PolygonizeMethod method = PolygonizeMethod::MarchingCubes;
+    int resolution = 0;      ///< cells along the longest side; 0: 128, or chosen for `tolerance`
+    double tolerance = 0.0;  ///< largest distance of vertices and face centroids to the surface; 0: none
+    int threads = 0;
+};
+
+struct Polygonization {
+    IndexedMesh mesh;
+    int resolution = 0;  ///< of the marching-cubes grid used
+    double seconds = 0.0;
+    std::vector<std::string> warnings;
+};
+
+/// Highest resolution accepted, and the memory estimate behind refusals.
+constexpr int kMaxPolygonizeResolution = 8192;
+double estimatePolygonizeBytes(int resolution);
+
+/// Throws std::invalid_argument (a message for users) for an unbounded
+/// field, a resolution that is not positive, or one too large for memory.
+Polygonization polygonize(const FieldProgram& field, const PolygonizeOptions& options);
+
+}  // namespace isotrace::geometry

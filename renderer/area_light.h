@@ -1,0 +1,31 @@
+// Area lights: world-space emissive triangles, sampled by area (a triangle
+// in proportion to its area, then a uniform point in it). Quad and disk
+// lights and every emissive mesh become one.
+#pragma once
+
+#include <array>
+#include <vector>
+
+#include "renderer/light.h"
+#include "renderer/material.h"
+
+namespace isotrace {
+
+class AreaLight final : public Light {
+public:
+    AreaLight(std::vector<std::array<Vec3, 3>> triangles, const Emission& emission);
+
+    double area() const { return totalArea_; }
+    const std::vector<std::array<Vec3, 3>>& triangles() const { return triangles_; }
+
+    LightSample sample(const Vec3& p, const Eigen::Vector2d& u) const override;
+    double pdf(const Vec3& p, const Vec3& onLight, const Vec3& lightNormal) const override;
+
+private:
+    Emission emission_;
+    std::vector<std::array<Vec3, 3>> triangles_;
+    std::vector<double> cumulativeArea_;
+    double totalArea_ = 0.0;
+};
+
+}  // namespace isotrace

@@ -1,0 +1,125 @@
+// "path": unidirectional path tracing with next-event estimation, multiple
+// importance sampling (power heuristic) and Russian roulette.
+#include <cmath>
+
+#include "renderer/integrator.h"
+
+namespace isotrace {
+
+namespace {
+
+class PathIntegrator final : public Integrator {
+public:
+    PathIntegrator(int maxDepth, int russianRouletteDepth)
+        : maxDepth_(maxDepth), russianRouletteDepth_(russianRouletteDepth) {}
+
+    const char* typeName() const override { return "path"; }
+
+    RGB radiance(const Scene& scene, const Ray& cameraRay, Sampler& sampler) const override {
+        const auto& lights = scene.lights;
+        const double lightCount = double(lights.size());
+        RGB L = RGB::Zero(), beta = RGB::Ones();
+        Ray ray = cameraRay;
+        bool countEmissionFully = true;  // camera rays and specular bounces cannot sample lights
+        double bsdfPdf = 0.0;
+        Vec3 previous = ray.origin;
+
+        for (int depth = 0;; ++depth) {
+            SurfaceHit hit;
+            if (!scene.intersect(ray, INFINITY, hit)) {
+                if (scene.environmentLight >= 0) {
+                    const Light& env = *lights[scene.environmentLight];
+                    const double w = countEmissionFully ? 1.0 : powerHeuristic(bsdfPdf, env.pdf(previous, {}, {}) / lightCount);
+                    L += beta * w * env.escapedRadiance(ray.direction);
+                }
+                break;
+            }
+            const SceneObject& object = scene.objects[hit.object];
+            const Material& material = scene.materials[object.material];
+            const Vec3 wo = -ray.direction;
+            if (material.emission) {
+                const bool front = material.emission->twoSided || hit.geometricNormal.dot(wo) > 0;
+                if (front) {
+                    double w = 1.0;
+                    if (!countEmissionFully && object.areaLight >= 0) {
+                        const double lightPdf = lights[object.areaLight]->pdf(previous, hit.position, hit.geometricNormal) / lightCount;
+                        w = powerHeuristic(bsdfPdf, lightPdf);
+                    }
+                    L += beta * w * material.emission->radiance;
+                }
+            }
+            if (!material.bsdf) break;  // pure emitters reflect nothing
+            if (depth >= maxDepth_) break;
+
+            const BSDF& bsdf = *material.bsdf;
+            const ShadingPoint sp = shadingPointOf(hit, wo);
+            const Vec3& ng = sp.geometricNormal;
+            const Vec3& ns = sp.shadingNormal;
+
+            if (bsdf.isDeltaOnly()) {
+                const std::optional<BSDFSample> s = bsdf.sample(sp, wo, sampler);
+                if (!s) break;
+                beta *= s->weight;
+                ray = {offsetOrigin(hit.position, ng, s->wi), s->wi};
+                countEmissionFully = true;
+                previous = hit.position;
+                continue;
+            }
+
+            // Next-event estimation towards one light chosen uniformly.
+            const double uLight = sampler.get1D();
+            const Eigen::Vector2d uSample = sampler.get2D();
+            if (!lights.empty()) {
+                const size_t index = std::min(size_t(uLight * lightCount), lights.size() - 1);
+                const Light& light = *lights[index];
+                const LightSample ls = light.sample(hit.position, uSample);
+                const double cosTheta = ns.dot(ls.direction);
+                if (ls.pdf > 0 && cosTheta > 0 && ng.dot(ls.direction) > 0 && (ls.radiance > 0).any()) {
+                    const Vec3 origin = offsetOrigin(hit.position, ng, ls.direction);
+                    const double tMax = std::isfinite(ls.distance) ? ls.distance - 2.0 * rayOffset(hit.position) : INFINITY;
+                    if (!scene.occluded(origin, ls.direction, tMax)) {
+                        const RGB f = bsdf.evaluate(sp, wo, ls.direction);
+                        const double lightPdf = ls.pdf / lightCount;
+                        const double w = ls.isDelta ? 1.0 : powerHeuristic(lightPdf, bsdf.pdf(sp, wo, ls.direction));
+                        L += beta * f * ls.radiance * (w * cosTheta / lightPdf);
+                    }
+                }
+            }
+
+            // Continue the path by sampling the BSDF.
+            const std::optional<BSDFSample> s = bsdf.sample(sp, wo, sampler);
+            if (!s || ng.dot(s->wi) <= 0) break;
+            beta *= s->weight;
+            bsdfPdf = s->pdf;
+            countEmissionFully = s->delta;
+            previous = hit.position;
+            ray = {offsetOrigin(hit.position, ng, s->wi), s->wi};
+
+            const double uRoulette = sampler.get1D();
+            if (depth + 1 >= russianRouletteDepth_) {
+                const double survive = std::min(1.0, beta.maxCoeff());
+                if (survive <= 0 || uRoulette >= survive) break;
+                beta /= survive;
+            }
+        }
+        return L;
+    }
+
+private:
+    int maxDepth_;
+    int russianRouletteDepth_;
+};
+
+}  // namespace
+
+std::unique_ptr<Integrator> makePathIntegrator(int maxDepth, int russianRouletteDepth) {
+    return std::make_unique<PathIntegrator>(maxDepth, russianRouletteDepth);
+}
+
+std::unique_ptr<Integrator> readPathIntegrator(geometry::JsonObjectReader& r) {
+    const int maxDepth = static_cast<int>(r.integer("max_depth", 8, 1, 1000));
+    const int rrDepth = static_cast<int>(r.integer("rr_depth", 3, 1, 1000));
+    return makePathIntegrator(maxDepth, rrDepth);
+}
+
+}  // namespace isotrace

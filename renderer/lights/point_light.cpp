@@ -1,0 +1,38 @@
+// "point": an isotropic point light of the given intensity (W/sr).
+#include "renderer/light.h"
+#include "renderer/scene_builder.h"
+#include "renderer/scene_values.h"
+
+namespace isotrace {
+
+namespace {
+
+class PointLight final : public Light {
+public:
+    PointLight(const Vec3& position, const RGB& intensity) : position_(position), intensity_(intensity) {}
+
+    bool isDelta() const override { return true; }
+    LightSample sample(const Vec3& p, const Eigen::Vector2d&) const override {
+        LightSample s;
+        const Vec3 d = position_ - p;
+        s.distance = d.norm();
+        s.direction = d / s.distance;
+        s.radiance = intensity_ / (s.distance * s.distance);
+        s.pdf = 1.0;
+        s.isDelta = true;
+        return s;
+    }
+
+private:
+    Vec3 position_;
+    RGB intensity_;
+};
+
+}  // namespace
+
+void readPointLight(geometry::JsonObjectReader& r, SceneBuilder& builder, size_t) {
+    const Vec3 position = r.vec3("position");
+    builder.addLight(std::make_unique<PointLight>(position, readColor(r, "intensity", RGB::Ones())));
+}
+
+}  // namespace isotrace

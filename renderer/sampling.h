@@ -1,0 +1,19 @@
+// Warping uniform samples to directions, and the weights that combine
+// sampling strategies.
+#pragma once
+
+#include <Eigen/Core>
+
+#include "geometry/vector_types.h"
+
+namespace isotrace {
+
+using geometry::Vec3;
+
+/// Cosine-weighted direction around unit normal n (density cos / pi).
+Vec3 sampleCosineHemisphere(const Vec3& n, const Eigen::Vector2d& u);
+/// Multiple importance sampling: Veach's power heuristic with exponent 2.
+inline double powerHeuristic(double a, double b) { return a * a / (a * a + b * b); }
+inline Vec3 reflect(const Vec3& d, const Vec3& n) { return d - 2.0 * d.dot(n) * n; }
+
+}  // namespace isotrace

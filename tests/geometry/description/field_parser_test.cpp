@@ -1,0 +1,101 @@
+#include "geometry/description/field_parser.h"
+
+#include <gtest/gtest.h>
+
+using namespace isotrace::geometry;
+
+namespace {
+
+// Compiles `name` from a "fields" object and returns the error text ("" if none).
+std::string compileError(const std::string& fieldsJson, const std::string& name) {
+    try {
+        FieldLibrary library(Json::parse(fieldsJson), "/fields", "scene.json");
+        library.compile(name);
+    } catch (const InputError& e) {
+        return e.what();
+    }
+    return "";
+}
+
+}  // namespace
+
+TEST(FieldParser, UnknownTypeNamesThePathAndSuggests) {
+    const std::string e = compileError(R"({"a": {"type": "spere", "radius": 1}})", "a");
+    EXPECT_NE(e.find("scene.json: /fields/a/type"), std::string::npos) << e;
+    EXPECT_NE(e.find("did you mean \"sphere\""), std::string::npos) << e;
+}
+
+TEST(FieldParser, UnknownKeyIsRejectedWithSuggestion) {
+    const std::string e = compileError(R"({"a": {"type": "sphere", "radius": 1, "centre": [0, 0, 0]}})", "a");
+    EXPECT_NE(e.find("/fields/a/centre"), std::string::npos) << e;
+    EXPECT_NE(e.find("did you mean \"center\""), std::string::npos) << e;
+}
+
+TEST(FieldParser, UnknownFieldNameInOperands) {
+    const std::string e = compileError(R"({"a": {"type": "sphere", "radius": 1},
+                                            "cut": {"type": "difference", "of": ["a", "ringg"]}})", "cut");
+    EXPECT_NE(e.find("/fields/cut/of/1"), std::string::npos) << e;
+    EXPECT_NE(e.find("unknown field \"ringg\""), std::string::npos) << e;
+}
+
+TEST(FieldParser, CycleInFieldGraphIsReported) {
+    const std::string e = compileError(R"({"a": {"type": "union", "of": ["b"]},
+                                            "b": {"type": "offset", "distance": 0.1, "of": "a"}})", "a");
+    EXPECT_NE(e.find("cycle in the field graph: a -> b -> a"), std::string::npos) << e;
+    EXPECT_NE(e.find("/fields/b/of"), std::string::npos) << e;
+}
+
+TEST(FieldParser, SelfReferenceIsACycle) {
+    const std::string e = compileError(R"({"a": {"type": "complement", "of": "a"}})", "a");
+    EXPECT_NE(e.find("cycle"), std::string::npos) << e;
+}
+
+TEST(FieldParser, InvalidParametersNameTheirPath) {
+    EXPECT_NE(compileError(R"({"a": {"type": "sphere", "radius": -1}})", "a").find("/fields/a/radius"), std::string::npos);
+    EXPECT_NE(compileError(R"({"a": {"type": "sphere", "radius": "big"}})", "a").find("expected a number"), std::string::npos);
+    EXPECT_NE(compileError(R"({"a": {"type": "sphere", "center": [0, 0], "radius": 1}})", "a").find("/fields/a/center"),
+              std::string::npos);
+    EXPECT_NE(compileError(R"({"a": {"type": "box", "size": [1, 0, 1]}})", "a").find("/fields/a/size"), std::string::npos);
+    EXPECT_NE(compileError(R"({"a": {"type": "union", "of": []}})", "a").find("at least 1 operand"), std::string::npos);
+    EXPECT_NE(compileError(R"({"a": {"type": "difference", "of": [{"type": "sphere", "radius": 1}]}})", "a").find("at least 2"),
+              std::string::npos);
+    EXPECT_NE(compileError(R"({"a": {"type": "transform", "scale": [1, 0, 1], "of": {"type": "sphere", "radius": 1}}})", "a")
+                  .find("/fields/a/scale"),
+              std::string::npos);
+    EXPECT_NE(compileError(R"({"a": {"type": "polynomial", "terms": [[1, 2, 0, 0], [-1, 0, 0, 0.5]], "domain": [[-1,-1,-1],[1,1,1]]}})", "a")
+                  .find("/fields/a/terms/1/3"),
+              std::string::npos);
+}
+
+TEST(FieldParser, PolynomialNeedsADomain) {
+    const std::string e = compileError(R"({"q": {"type": "quadric", "coefficients": [1,1,1,0,0,0,0,0,0,-1]}})", "q");
+    EXPECT_NE(e.find("needs a \"domain\""), std::string::npos) << e;
+}
+
+TEST(FieldParser, DeclaredLipschitzBoundIsCheckedWithTheMeasuredValue) {
+    // Goursat's tangle has gradients far above 1 inside its domain.
+    const std::string bad = compileError(R"({"t": {"type": "polynomial", "preset": "tangle", "lipschitz": 1}})", "t");
+    EXPECT_NE(bad.find("/fields/t/lipschitz"), std::string::npos) << bad;
+    EXPECT_NE(bad.find("the gradient's length is"), std::string::npos) << bad;
+    EXPECT_EQ(compileError(R"({"s": {"type": "sphere", "radius": 1, "lipschitz": 1.0}})", "s"), "");
+}
+
+TEST(FieldParser, NamedFieldsAreSharedAndNested) {
+    FieldLibrary library(Json::parse(R"({
+        "ball": {"type": "sphere", "radius": 1},
+        "moved": {"type": "transform", "translate": [2, 0, 0], "of": "ball"},
+        "both": {"type": "union", "of": ["ball", "moved"]}})"),
+                         "/fields", "scene.json");
+    const FieldProgram f = library.compile("both");
+    EXPECT_NEAR(f.value(Vec3(2, 0, 0)), -1.0, 1e-12);
+    EXPECT_NEAR(f.value(Vec3(0, 0, 0)), -1.0, 1e-12);
+    EXPECT_NEAR(f.value(Vec3(1, 0, 0)), 0.0, 1e-12);
+    EXPECT_NEAR(f.bounds().upper.x(), 3.0, 1e-12);
+}
+
+TEST(FieldParser, UniformScaleKeepsDistances) {
+    FieldLibrary library(Json::parse(R"({"s": {"type": "transform", "scale": 2, "of": {"type": "sphere", "radius": 1}}})"),
+                         "/fields", "scene.json");
+    const FieldProgram f = library.compile("s");
+    EXPECT_NEAR(f.value(Vec3(3, 0, 0)), 1.0, 1e-12);
+}

@@ -1,0 +1,44 @@
+#include "geometry/meshing/mesh_simplifier.h"
+
+#include <gtest/gtest.h>
+
+#include "geometry/description/field_parser.h"
+#include "geometry/meshing/marching_cubes.h"
+#include "geometry/meshing/mesh_analysis.h"
+#include "geometry/meshing/polygonizer.h"
+#include "support/compile_field.h"
+
+using namespace isotrace::geometry;
+using isotrace::testing::compileField;
+
+// Simplification keeps topology (manifold, watertight, same genus), keeps
+// every vertex and face centroid within the tolerance, and removes most
+// triangles where the surface is flat or gently curved.
+TEST(MeshSimplifier, KeepsTopologyAndToleranceWithFarFewerTriangles) {
+    struct Case {
+        const char* json;
+        long long euler;
+    };
+    for (const Case& c : {Case{R"({"type": "sphere", "radius": 1})", 2},
+                          Case{R"({"type": "torus", "major": 1, "minor": 0.3})", 0},
+                          Case{R"({"type": "difference", "of": [{"type": "box", "size": [2, 1, 1]},
+                                  {"type": "cylinder", "radius": 0.3, "height": 2}]})", 0}}) {
+        const FieldProgram field = compileField(c.json);
+        MarchingCubesOptions o;
+        o.resolution = 64;
+        o.sharpFeatures = true;
+        IndexedMesh m = marchingCubes(field, field.bounds(), o);
+        const size_t before = m.triangles.size();
+        const double tolerance = 0.004;
+        simplifyMesh(m, field, {.maxDistance = tolerance});
+        const MeshTopology t = analyzeTopology(m);
+        const MeshAccuracy a = measureAccuracy(m, field);
+        EXPECT_TRUE(t.watertight()) << c.json;
+        EXPECT_TRUE(t.manifold()) << c.json;
+        EXPECT_TRUE(t.oriented()) << c.json;
+        EXPECT_EQ(t.eulerCharacteristic, c.euler) << c.json;
+        EXPECT_LT(m.triangles.size(), before / 4) << c.json;
+        EXPECT_LE(a.maxVertexDistance, tolerance) << c.json;
+    }
+}
+

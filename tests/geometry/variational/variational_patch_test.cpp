@@ -1,0 +1,190 @@
+// The local models behind fast variational rendering: exact at their
+// expansion point, within their stated value and gradient error everywhere
+// in their box, with a sound gradient bound, on the hand fit whose weights
+// (sum of |w| near 1e6 for values near 0.02) defeat termwise bounds of low
+// order. Traced through them, the hand agrees with exact marching.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <random>
+
+#include "geometry/mesh_file.h"
+#include "geometry/variational/rbf_solver.h"
+#include "geometry/tracing/implicit_surface.h"
+#include "geometry/variational/variational_patch.h"
+#include "support/embree_scene.h"
+#include "support/random_rays.h"
+
+using namespace isotrace::geometry;
+
+namespace {
+
+const VariationalField& handField() {
+    static const VariationalField field = [] {
+        const auto points = orientedPointsOfMesh(readMeshFile(std::string(ISOTRACE_SOURCE_DIR) + "/scenes/meshes/hand.off"));
+        return fitVariationalField(constraintsFromOrientedPoints(points, defaultNormalOffset(points), false));
+    }();
+    return field;
+}
+
+// Boxes of the given edge centred on random constraint positions: where the
+// surface is, and where centres lie inside the box (near terms).
+std::vector<Box3> boxesOnTheSurface(const VariationalField& f, double edge, int count, std::mt19937& rng) {
+    std::uniform_int_distribution<size_t> pick(0, f.centers.size() - 1);
+    std::uniform_real_distribution<double> jitter(-0.5, 0.5);
+    std::vector<Box3> boxes;
+    for (int i = 0; i < count; ++i) {
+        const Vec3 c = f.centers[pick(rng)] + edge * Vec3(jitter(rng), jitter(rng), jitter(rng));
+        boxes.push_back(Box3::around(c, 0.5 * edge));
+    }
+    return boxes;
+}
+
+Vec3 randomPointIn(const Box3& box, std::mt19937& rng) {
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    return box.lower + box.extent().cwiseProduct(Vec3(u(rng), u(rng), u(rng)));
+}
+
+}  // namespace
+
+TEST(VariationalPatch, ExactAtTheExpansionPointWithTheExactGradient) {
+    const VariationalField& f = handField();
+    std::mt19937 rng(3);
+    for (const Box3& box : boxesOnTheSurface(f, 0.03, 20, rng)) {
+        const auto patch = buildVariationalPatch(f, box);
+        ASSERT_TRUE(patch);
+        Vec3 g, gp;
+        const double v = f.valueAndGradient(box.center(), g);
+        const double vp = patch->valueAndGradient(box.center(), gp);
+        EXPECT_NEAR(vp, v, 1e-9);
+        EXPECT_LT((gp - g).norm(), 1e-7);
+    }
+}
+
+TEST(VariationalPatch, StaysWithinItsStatedErrors) {
+    const VariationalField& f = handField();
+    std::mt19937 rng(5);
+    int checked = 0;
+    for (double edge : {0.01, 0.02, 0.05}) {
+        for (const Box3& box : boxesOnTheSurface(f, edge, 30, rng)) {
+            const auto patch = buildVariationalPatch(f, box);
+            ASSERT_TRUE(patch);
+            // An anchor as the tracer makes one: e = f - model and its
+            // gradient, known exactly at a point of the box.
+            const Vec3 a = randomPointIn(box, rng);
+            Vec3 ga, gpa;
+            const double ea = f.valueAndGradient(a, ga) - patch->valueAndGradient(a, gpa);
+            const Vec3 gradientEa = ga - gpa;
+            for (int i = 0; i < 40; ++i) {
+                const Vec3 x = i < 8 ? box.corner(i) : randomPointIn(box, rng);
+                Vec3 g, gp;
+                const double v = f.valueAndGradient(x, g);
+                const double vp = patch->valueAndGradient(x, gp);
+                ASSERT_LE(std::abs(vp - v), patch->valueError) << "edge " << edge;
+                ASSERT_LE((gp - g).norm(), patch->gradientError) << "edge " << edge;
+                ASSERT_LE(g.norm(), patch->lipschitz) << "edge " << edge;
+                ASSERT_TRUE(patch->range.contains(v)) << "edge " << edge;
+                // The anchor's first- and second-order predictions of e.
+                const double e = v - vp, distance = (x - a).norm();
+                ASSERT_LE(std::abs(e - ea), patch->gradientError * distance + 2 * patch->evaluationNoise);
+                ASSERT_LE(std::abs(e - ea - gradientEa.dot(x - a)),
+                          0.5 * patch->hessianError * distance * distance + 2 * patch->evaluationNoise)
+                    << "edge " << edge;
+                ++checked;
+            }
+        }
+    }
+    EXPECT_EQ(checked, 3 * 30 * 40);
+}
+
+TEST(VariationalPatch, ErrorShrinksWithTheFifthPowerOfTheBox) {
+    const VariationalField& f = handField();
+    const Box3 big = Box3::around(f.centers[100], 0.01), small = Box3::around(f.centers[100], 0.005);
+    const auto a = buildVariationalPatch(f, big), b = buildVariationalPatch(f, small);
+    ASSERT_TRUE(a && b);
+    // Halving the box divides s^5 by 32; the far sum weighs its nearest
+    // terms by 1 / (r - s)^2, so it can grow a little.
+    EXPECT_LT(b->valueError, a->valueError / 8);
+    // Small enough to trace with (the hand's values are near 0.02 a
+    // normal offset away): hits are refined exactly from within it.
+    EXPECT_LT(b->valueError, 1e-3);
+}
+
+TEST(VariationalPatch, HermiteFieldsHaveNone) {
+    VariationalField f;
+    f.centers = {Vec3(0, 0, 0)};
+    f.weights = {1.0};
+    f.gradientCenters = {Vec3(1, 0, 0)};
+    f.gradientWeights = {Vec3(0, 1, 0)};
+    EXPECT_FALSE(buildVariationalPatch(f, Box3::around(Vec3(0, 0, 0), 1)));
+}
+
+namespace {
+
+// The hand traced through its models and by exact marching (the fields'
+// general sphere tracer with its O(N) safe radius) must agree on every ray,
+// primary and secondary (starting on the surface, as bounce rays do).
+void expectSameHits(const FieldProgram& program, int rays) {
+    ImplicitSurfaceOptions exactOptions;
+    exactOptions.variationalPatches = false;
+    ImplicitSurface fast(program), exact(program, exactOptions);
+    ASSERT_GT(fast.variationalCellCount(), 0u);
+    ASSERT_EQ(exact.variationalCellCount(), 0u);
+    isotrace::testing::EmbreeScene fastScene, exactScene;
+    fastScene.attach(fast);
+    exactScene.attach(exact);
+    fastScene.commit();
+    exactScene.commit();
+    const double size = fast.bounds().extent().norm();
+    std::mt19937 rng(11);
+    std::normal_distribution<double> n;
+    int hits = 0, secondaryHits = 0;
+    for (int i = 0; i < rays; ++i) {
+        const auto ray = isotrace::testing::randomRayAt(fast.bounds(), rng);
+        const auto a = fastScene.intersect(ray.origin, ray.direction), b = exactScene.intersect(ray.origin, ray.direction);
+        ASSERT_EQ(a.hit, b.hit) << "ray " << i;
+        if (!a.hit) continue;
+        ++hits;
+        ASSERT_NEAR(a.t, b.t, 1e-5 * size) << "ray " << i;
+        // Normals come from the exact gradient at (or within resolution of) the hit.
+        EXPECT_GT(a.normal.normalized().dot(b.normal.normalized()), 0.9999) << "ray " << i;
+        // A ray leaving the surface into the outer hemisphere.
+        const Vec3 p = ray.origin + double(a.t) * ray.direction, normal = b.normal.normalized();
+        Vec3 d = Vec3(n(rng), n(rng), n(rng)).normalized();
+        if (d.dot(normal) < 0) d = -d;
+        const Vec3 o = (p + 1e-4 * size * normal).cast<float>().cast<double>();
+        d = d.cast<float>().cast<double>();
+        const auto c = fastScene.intersect(o, d), e = exactScene.intersect(o, d);
+        ASSERT_EQ(c.hit, e.hit) << "secondary ray " << i;
+        EXPECT_EQ(fastScene.occluded(o, d, 1e30), exactScene.occluded(o, d, 1e30)) << "secondary ray " << i;
+        if (c.hit) {
+            ++secondaryHits;
+            ASSERT_NEAR(c.t, e.t, 1e-5 * size) << "secondary ray " << i;
+        }
+    }
+    EXPECT_GT(hits, rays / 5);
+    EXPECT_GT(secondaryHits, 0);
+}
+
+}  // namespace
+
+TEST(VariationalPatchTracing, HandAgreesWithExactMarching) {
+    FieldProgram program;
+    program.addLeaf(VariationalLeafField{std::make_shared<VariationalField>(handField())});
+    expectSameHits(program, 150);
+}
+
+TEST(VariationalPatchTracing, TransformedHandAgreesWithExactMarching) {
+    // Twice the size, turned about a slanted axis: rays are traced in the
+    // leaf's frame, gradients brought back.
+    LeafPlacement placement;
+    const Mat3 rotation = Eigen::AngleAxisd(0.7, Vec3(1, 2, 3).normalized()).toRotationMatrix();
+    placement.linear = 0.5 * rotation.transpose();
+    placement.offset = Vec3(0.1, -0.2, 0.3);
+    placement.valueScale = 2.0;
+    placement.gradientScale = 1.0;
+    placement.identity = false;
+    FieldProgram program;
+    program.addLeaf(VariationalLeafField{std::make_shared<VariationalField>(handField())}, placement);
+    expectSameHits(program, 100);
+}
