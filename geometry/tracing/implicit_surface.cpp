@@ -9,9 +9,13 @@
 
 #include <tbb/parallel_for.h>
 
-#include "geometry/variational/patch_tracer.h"
+#include "geometry/tracing/variational_cells.h"
 
 namespace isotrace::geometry {
+
+std::vector<std::shared_ptr<const CellAccelerator>> defaultCellAccelerators() {
+    return {std::make_shared<VariationalCellAccelerator>()};
+}
 
 TraceCounters& threadTraceCounters() {
     thread_local TraceCounters counters;
@@ -57,17 +61,16 @@ ImplicitSurface::ImplicitSurface(FieldProgram field, const ImplicitSurfaceOption
         level = std::move(next);
     }
 
-    // Each cell's program, bound and (for bare variational fields) local
-    // models are independent: build them in parallel, keep them in order.
+    // Each cell's program, bound and acceleration (local models for bare
+    // variational fields) are independent: build them in parallel, keep
+    // them in order.
     struct Built {
         bool keep = false;
         SurfaceCell cell;
         FieldProgram program;
-        std::optional<std::vector<VariationalPatch>> models;
-        const VariationalLeafField* variational = nullptr;
+        std::optional<CellAcceleration> acceleration;
     };
     std::vector<Built> built(level.size());
-    const double patchTolerance = options.patchRelativeTolerance * diagonal;
     tbb::parallel_for(size_t(0), level.size(), [&](size_t i) {
         const Box3& box = level[i];
         if (!field_.range(box).containsZero()) return;
@@ -76,43 +79,37 @@ ImplicitSurface::ImplicitSurface(FieldProgram field, const ImplicitSurfaceOption
         b.cell.box = box;
         b.program = options.pruneCells ? field_.prunedTo(box) : field_;
         b.cell.lipschitz = options.globalLipschitzOnly ? globalLipschitz_ : b.program.estimate(box).lipschitz;
-        const FieldLeaf* leaf = b.program.singleLeaf();
-        const auto* variational = leaf ? std::get_if<VariationalLeafField>(&leaf->shape) : nullptr;
-        if (variational && options.variationalPatches) {
-            const Box3 leafBox = leaf->placement.identity
-                                     ? box
-                                     : transformBox(leaf->placement.linear, leaf->placement.offset, box);
-            // Tolerance in the leaf's values: world values are valueScale times them.
-            b.models = buildSurfaceModels(*variational->field, leafBox, patchTolerance / leaf->placement.valueScale);
-            b.variational = variational;
-            // A cell its models prove empty is no cell at all.
-            if (b.models) b.keep = !b.models->empty();
+        for (const auto& accelerator : options.cellAccelerators) {
+            b.acceleration = accelerator->accelerate(b.program, box, diagonal);
+            if (b.acceleration) break;
         }
+        // A cell its accelerator proves empty is no cell at all.
+        if (b.acceleration) b.keep = !b.acceleration->parts.empty();
     });
     for (Built& b : built) {
         if (!b.keep) continue;
         b.cell.program = static_cast<uint32_t>(programs_.size());
         programs_.push_back(std::move(b.program));
-        if (!b.models) {
+        if (!b.acceleration) {
             cells_.push_back(b.cell);
             continue;
         }
-        const LeafPlacement& placement = programs_.back().singleLeaf()->placement;
-        const Mat3 worldFromLeaf = placement.identity ? Mat3::Identity() : Mat3(placement.linear.inverse());
-        for (VariationalPatch& model : *b.models) {
+        const auto tracer = static_cast<int32_t>(tracers_.size());
+        tracers_.push_back(std::move(b.acceleration->tracer));
+        for (uint32_t part = 0; part < b.acceleration->parts.size(); ++part) {
             SurfaceCell cell = b.cell;
-            if (placement.identity) {
-                cell.box = model.box;
-            } else {
-                // The world box around the model's box, within the octree cell.
-                const Box3 around = transformBox(worldFromLeaf, -(worldFromLeaf * placement.offset), model.box);
-                cell.box = Box3(around.lower.cwiseMax(b.cell.box.lower), around.upper.cwiseMin(b.cell.box.upper));
-            }
-            cell.variational = static_cast<int32_t>(variationalCells_.size());
-            variationalCells_.push_back({std::move(model), b.variational->field.get(), placement});
+            cell.box = b.acceleration->parts[part];
+            cell.tracer = tracer;
+            cell.part = part;
             cells_.push_back(cell);
         }
     }
+}
+
+size_t ImplicitSurface::acceleratedCellCount() const {
+    size_t n = 0;
+    for (const SurfaceCell& c : cells_) n += c.tracer >= 0;
+    return n;
 }
 
 TraceResult ImplicitSurface::intersectCell(uint32_t index, const Vec3& origin, const Vec3& direction, double tNear,
@@ -121,44 +118,26 @@ TraceResult ImplicitSurface::intersectCell(uint32_t index, const Vec3& origin, c
     double t0 = tNear, t1 = tFar;
     if (!clipRayToBox(cell.box, origin, direction, t0, t1)) return {};
     const FieldProgram& program = programs_[cell.program];
-    TraceResult r = cell.variational >= 0 ? traceModel(cell, origin, direction, t0, t1)
-                                          : sphereTrace(program, cell.lipschitz, origin, direction, t0, t1, settings_);
+    TraceResult r;
+    if (cell.tracer < 0) {
+        r = sphereTrace(program, cell.lipschitz, origin, direction, t0, t1, settings_);
+    } else {
+        const CellTraceResult a = tracers_[cell.tracer]->trace(cell.part, origin, direction, t0, t1, settings_);
+        r = a;
+        if (!a.complete) {
+            // The accelerator gave up: the general tracer settles the rest.
+            const TraceResult rest = sphereTrace(program, cell.lipschitz, origin, direction, a.t, a.restEnd, settings_);
+            r.hit = rest.hit;
+            r.t = rest.t;
+            r.steps += rest.steps;
+            r.evaluations += rest.evaluations;
+        }
+    }
     TraceCounters& counters = threadTraceCounters();
     counters.steps += r.steps;
     counters.evaluations += r.evaluations;
     // Hits exactly at tNear belong to the caller's previous surface.
     if (r.hit && !(r.t > tNear && r.t < tFar)) r.hit = false;
-    return r;
-}
-
-TraceResult ImplicitSurface::traceModel(const SurfaceCell& cell, const Vec3& origin, const Vec3& direction, double t0,
-                                        double t1) const {
-    // Trace in the leaf's frame: an affine map keeps the ray's t.
-    const VariationalCell& v = variationalCells_[cell.variational];
-    const Vec3 o = v.placement.leafFromWorld(origin);
-    const Vec3 d = v.placement.identity ? direction : Vec3(v.placement.linear * direction);
-    // The model holds inside its own box only.
-    if (!v.placement.identity && !clipRayToBox(v.model.box, o, d, t0, t1)) return {};
-    const PatchTraceResult p = tracePatch(v.model, *v.field, o, d, t0, t1, settings_.epsilon / direction.norm());
-    TraceResult r;
-    r.steps = p.steps + p.exactEvaluations;
-    r.evaluations =
-        uint64_t(p.steps) * VariationalPatch::kMonomials + uint64_t(p.exactEvaluations) * v.field->termCount();
-    if (!p.complete) {
-        const TraceResult rest =
-            sphereTrace(programs_[cell.program], cell.lipschitz, origin, direction, p.t, t1, settings_);
-        r.hit = rest.hit;
-        r.t = rest.t;
-        r.steps += rest.steps;
-        r.evaluations += rest.evaluations;
-        return r;
-    }
-    r.hit = p.hit;
-    r.t = p.t;
-    // grad of valueScale f(A x + b) is valueScale A^T grad f.
-    r.gradientKnown = p.hit;
-    r.gradient = v.placement.valueScale *
-                 (v.placement.identity ? p.gradient : Vec3(v.placement.linear.transpose() * p.gradient));
     return r;
 }
 

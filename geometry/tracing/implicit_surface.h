@@ -6,13 +6,17 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "geometry/field_program.h"
+#include "geometry/tracing/cell_accelerator.h"
 #include "geometry/tracing/sphere_tracer.h"
-#include "geometry/variational/variational_patch.h"
 
 namespace isotrace::geometry {
+
+/// The accelerators every surface uses unless told otherwise.
+std::vector<std::shared_ptr<const CellAccelerator>> defaultCellAccelerators();
 
 struct ImplicitSurfaceOptions {
     int maxDepth = 6;            ///< octree levels below the bounds
@@ -21,30 +25,18 @@ struct ImplicitSurfaceOptions {
     bool pruneCells = true;      ///< per-cell pruning (off only to measure it)
     /// One global bound for every cell instead of local ones (benchmarks only).
     bool globalLipschitzOnly = false;
-    /// Cells whose program is a bare variational field march through local
-    /// models (variational_patch.h) instead of O(N) sums (off only to
-    /// measure it).
-    bool variationalPatches = true;
-    /// Their models' value error target, relative to the bounds' diagonal.
-    double patchRelativeTolerance = 1e-4;
+    /// Offered every cell in turn; the first that takes it marches it. By
+    /// default variational fields march through local models
+    /// (variational_cells.h); clear it only to measure what they save.
+    std::vector<std::shared_ptr<const CellAccelerator>> cellAccelerators = defaultCellAccelerators();
 };
 
 struct SurfaceCell {
     Box3 box;
     double lipschitz = 0.0;
     uint32_t program = 0;  ///< index into ImplicitSurface::cellPrograms
-    int32_t variational = -1;  ///< index of its local models, or -1
-};
-
-/// A cell whose program is one variational leaf: one of the models built
-/// for the octree cell it came from (in the leaf's frame; the cell's box
-/// bounds the model's box in the world), and how to reach that frame. Each
-/// model that may hold surface is a cell of its own, so Embree's BVH skips
-/// the space the models prove empty.
-struct VariationalCell {
-    VariationalPatch model;
-    const VariationalField* field = nullptr;  ///< owned by the cell's program
-    LeafPlacement placement;
+    int32_t tracer = -1;   ///< the accelerator's tracer that marches it, or -1
+    uint32_t part = 0;     ///< which of that tracer's parts it is
 };
 
 /// Per-thread totals of the marching work, read by benchmarks and AOVs.
@@ -65,7 +57,8 @@ public:
     const FieldProgram& cellProgram(const SurfaceCell& c) const { return programs_[c.program]; }
     const TraceSettings& traceSettings() const { return settings_; }
     double globalLipschitz() const { return globalLipschitz_; }
-    size_t variationalCellCount() const { return variationalCells_.size(); }
+    /// Cells marched by an accelerator rather than the general tracer.
+    size_t acceleratedCellCount() const;
 
     /// Nearest hit in one cell for t in (tNear, tFar); counts its work.
     TraceResult intersectCell(uint32_t cell, const Vec3& origin, const Vec3& direction, double tNear,
@@ -80,18 +73,12 @@ public:
     void setRayMask(unsigned mask) { rayMask_ = mask; }
 
 private:
-    /// A variational cell's march through its model (in the leaf's frame),
-    /// falling back to the general tracer if the model's march runs out of
-    /// steps.
-    TraceResult traceModel(const SurfaceCell& cell, const Vec3& origin, const Vec3& direction, double t0,
-                           double t1) const;
-
     unsigned rayMask_ = 0xFFFFFFFFu;
     FieldProgram field_;
     Box3 bounds_;
     std::vector<SurfaceCell> cells_;
     std::vector<FieldProgram> programs_;
-    std::vector<VariationalCell> variationalCells_;
+    std::vector<std::unique_ptr<const CellTracer>> tracers_;
     TraceSettings settings_;
     double globalLipschitz_ = 0.0;
 };

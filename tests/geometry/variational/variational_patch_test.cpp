@@ -126,10 +126,10 @@ namespace {
 // primary and secondary (starting on the surface, as bounce rays do).
 void expectSameHits(const FieldProgram& program, int rays) {
     ImplicitSurfaceOptions exactOptions;
-    exactOptions.variationalPatches = false;
+    exactOptions.cellAccelerators.clear();
     ImplicitSurface fast(program), exact(program, exactOptions);
-    ASSERT_GT(fast.variationalCellCount(), 0u);
-    ASSERT_EQ(exact.variationalCellCount(), 0u);
+    ASSERT_GT(fast.acceleratedCellCount(), 0u);
+    ASSERT_EQ(exact.acceleratedCellCount(), 0u);
     isotrace::testing::EmbreeScene fastScene, exactScene;
     fastScene.attach(fast);
     exactScene.attach(exact);

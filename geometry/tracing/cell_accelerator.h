@@ -1,0 +1,52 @@
+// A hook for marching some cells of an implicit surface faster than the
+// general sphere tracer can. ImplicitSurface offers every octree cell (with
+// its pruned program) to its accelerators; one that recognises the program
+// takes the cell over, splits it into parts (world boxes, each an Embree
+// primitive of its own; none when it proves the cell empty) and marches
+// each part itself. Variational fields use it (variational_cells.h).
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "geometry/bounding_box.h"
+#include "geometry/field_program.h"
+#include "geometry/tracing/sphere_tracer.h"
+
+namespace isotrace::geometry {
+
+struct CellTraceResult : TraceResult {
+    /// False when the march gave up at t (a ray grazing the surface for a
+    /// long way): the general tracer settles [t, restEnd].
+    bool complete = true;
+    double restEnd = 0.0;
+};
+
+/// Marches the parts of the cells one accelerator took over.
+class CellTracer {
+public:
+    virtual ~CellTracer() = default;
+    /// First root along origin + t direction for t in [t0, t1], a segment
+    /// already clipped to the part's box.
+    virtual CellTraceResult trace(uint32_t part, const Vec3& origin, const Vec3& direction, double t0, double t1,
+                                  const TraceSettings& settings) const = 0;
+};
+
+struct CellAcceleration {
+    std::unique_ptr<const CellTracer> tracer;
+    std::vector<Box3> parts;  ///< world boxes within the cell, indexed as trace()'s `part`
+};
+
+class CellAccelerator {
+public:
+    virtual ~CellAccelerator() = default;
+    /// Takes over a cell, or declines (nullopt: the general tracer marches
+    /// it). `surfaceDiagonal` is the diagonal of the whole surface's bounds,
+    /// the scale of relative tolerances. Called in parallel for many cells.
+    virtual std::optional<CellAcceleration> accelerate(const FieldProgram& cellProgram, const Box3& cellBox,
+                                                       double surfaceDiagonal) const = 0;
+};
+
+}  // namespace isotrace::geometry

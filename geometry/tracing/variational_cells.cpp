@@ -1,0 +1,77 @@
+#include "geometry/tracing/variational_cells.h"
+
+#include "geometry/variational/patch_tracer.h"
+#include "geometry/variational/variational_leaf.h"
+
+namespace isotrace::geometry {
+
+namespace {
+
+class VariationalCellTracer final : public CellTracer {
+public:
+    VariationalCellTracer(std::vector<VariationalPatch> models, std::shared_ptr<const VariationalField> field,
+                          const LeafPlacement& placement)
+        : models_(std::move(models)), field_(std::move(field)), placement_(placement) {}
+
+    CellTraceResult trace(uint32_t part, const Vec3& origin, const Vec3& direction, double t0, double t1,
+                          const TraceSettings& settings) const override {
+        const VariationalPatch& model = models_[part];
+        // Trace in the leaf's frame: an affine map keeps the ray's t.
+        const Vec3 o = placement_.leafFromWorld(origin);
+        const Vec3 d = placement_.identity ? direction : Vec3(placement_.linear * direction);
+        // The model holds inside its own box only.
+        if (!placement_.identity && !clipRayToBox(model.box, o, d, t0, t1)) return {};
+        const PatchTraceResult p = tracePatch(model, *field_, o, d, t0, t1, settings.epsilon / direction.norm());
+        CellTraceResult r;
+        r.steps = p.steps + p.exactEvaluations;
+        r.evaluations =
+            uint64_t(p.steps) * VariationalPatch::kMonomials + uint64_t(p.exactEvaluations) * field_->termCount();
+        r.t = p.t;
+        if (!p.complete) {
+            r.complete = false;
+            r.restEnd = t1;
+            return r;
+        }
+        r.hit = p.hit;
+        // grad of valueScale f(A x + b) is valueScale A^T grad f.
+        r.gradientKnown = p.hit;
+        r.gradient = placement_.valueScale *
+                     (placement_.identity ? p.gradient : Vec3(placement_.linear.transpose() * p.gradient));
+        return r;
+    }
+
+private:
+    std::vector<VariationalPatch> models_;
+    std::shared_ptr<const VariationalField> field_;
+    LeafPlacement placement_;
+};
+
+}  // namespace
+
+std::optional<CellAcceleration> VariationalCellAccelerator::accelerate(const FieldProgram& program, const Box3& box,
+                                                                       double surfaceDiagonal) const {
+    const FieldLeaf* leaf = program.singleLeaf();
+    const auto* variational = leaf ? std::get_if<VariationalLeafField>(&leaf->shape) : nullptr;
+    if (!variational) return std::nullopt;
+    const LeafPlacement& placement = leaf->placement;
+    const Box3 leafBox = placement.identity ? box : transformBox(placement.linear, placement.offset, box);
+    // Tolerance in the leaf's values: world values are valueScale times them.
+    std::optional<std::vector<VariationalPatch>> models =
+        buildSurfaceModels(*variational->field, leafBox, relativeTolerance_ * surfaceDiagonal / placement.valueScale);
+    if (!models) return std::nullopt;
+    CellAcceleration a;
+    const Mat3 worldFromLeaf = placement.identity ? Mat3::Identity() : Mat3(placement.linear.inverse());
+    for (const VariationalPatch& model : *models) {
+        if (placement.identity) {
+            a.parts.push_back(model.box);
+        } else {
+            // The world box around the model's box, within the octree cell.
+            const Box3 around = transformBox(worldFromLeaf, -(worldFromLeaf * placement.offset), model.box);
+            a.parts.emplace_back(around.lower.cwiseMax(box.lower), around.upper.cwiseMin(box.upper));
+        }
+    }
+    a.tracer = std::make_unique<VariationalCellTracer>(std::move(*models), variational->field, placement);
+    return a;
+}
+
+}  // namespace isotrace::geometry
