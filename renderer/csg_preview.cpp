@@ -12,6 +12,7 @@
 
 #include "geometry/description/field_parser.h"
 #include "geometry/input_error.h"
+#include "renderer/field_hosting.h"
 #include "renderer/image_output.h"
 #include "renderer/render.h"
 #include "renderer/scene_builder.h"
@@ -226,7 +227,7 @@ void runPreview(const PreviewCommand& c) {
     if (!root.is_object() || !root.contains("fields") || !root["fields"].is_object())
         throw InputError(c.scene, "/fields", "the scene has no \"fields\" object");
     const Json& fields = root["fields"];
-    const geometry::FieldLibrary library(fields, "/fields", c.scene);
+    const geometry::FieldLibrary library(fields, "/fields", c.scene, printingFieldOptions());
     library.compile(c.field);  // unknown names (with a suggestion) and errors in the node come first
     const std::string pointer = geometry::jsonPointerAppend("/fields", c.field);
     const std::vector<Panel> panels = panelsOf(fields[c.field], c.scene, pointer);

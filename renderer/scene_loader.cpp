@@ -11,6 +11,7 @@
 #include "geometry/description/field_parser.h"
 #include "geometry/description/json_reader.h"
 #include "geometry/meshing/polygonizer.h"
+#include "renderer/field_hosting.h"
 #include "renderer/scene_builder.h"
 #include "renderer/scene_values.h"
 
@@ -45,7 +46,13 @@ public:
             readMaterials(*materials);
         }
         if (const Json* fields = r.optionalValue("fields")) {
-            fields_ = geometry::FieldLibrary(*fields, "/fields", path_);
+            geometry::FieldLibraryOptions options;
+            options.fitCache = overrides_.fitCache ? overrides_.fitCache : processFitCache();
+            // Fit warnings join the scene's, which the host reports.
+            options.warn = [this](const std::string&, const std::string& pointer, const std::string& message) {
+                builder_.addWarning(pointer + ": " + message);
+            };
+            fields_ = geometry::FieldLibrary(*fields, "/fields", path_, std::move(options));
         }
         const Json& objects = r.value("objects");
         if (!objects.is_array()) r.fail("objects", "expected an array of objects");

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "geometry/input_error.h"
+#include "geometry/description/fit_cache.h"
 #include "geometry/description/json_reader.h"
 #include "renderer/scene.h"
 
@@ -15,6 +16,9 @@ struct SceneOverrides {
     int width = 0, height = 0, samplesPerPixel = 0;  ///< 0: as in the file
     enum class FieldMode { AsWritten, Mesh, Implicit };
     FieldMode fieldMode = FieldMode::AsWritten;
+    /// Where variational fits are kept; null: the process's cache in the
+    /// user's cache folder (field_hosting.h).
+    std::shared_ptr<geometry::FitCache> fitCache;
 };
 
 std::unique_ptr<Scene> loadScene(const std::string& path, const SceneOverrides& overrides = {});

@@ -23,17 +23,18 @@ const std::map<std::string, FieldFactory>& registry();
 
 class Compiler {
 public:
-    Compiler(const Json& library, std::string libraryPointer, std::string file)
-        : library_(library), libraryPointer_(std::move(libraryPointer)), file_(std::move(file)) {}
+    Compiler(const Json& library, std::string libraryPointer, std::string file, const FieldLibraryOptions& options)
+        : library_(library), libraryPointer_(std::move(libraryPointer)), file_(std::move(file)), options_(options) {}
 
     FieldProgram program;
 
     const std::string& file() const { return file_; }
+    const FieldLibraryOptions& options() const { return options_; }
 
     /// A field compiled on its own (names resolve in the same library, with
     /// the same cycle check).
     FieldProgram compileAlone(const Json& description, const std::string& pointer) {
-        Compiler alone(library_, libraryPointer_, file_);
+        Compiler alone(library_, libraryPointer_, file_, options_);
         alone.stack_ = stack_;
         alone.node(description, pointer, {});
         return std::move(alone.program);
@@ -124,7 +125,7 @@ private:
     void checkLipschitzClaim(const Json& description, JsonObjectReader& reader, const Json& claimJson) {
         const double claim = JsonObjectReader::asNumber(claimJson, reader.pointerOf("lipschitz"), file_);
         if (!(claim > 0)) reader.fail("lipschitz", "must be greater than 0");
-        Compiler alone(library_, libraryPointer_, file_);
+        Compiler alone(library_, libraryPointer_, file_, options_);
         alone.stack_ = stack_;
         Json copy = description;
         copy.erase("lipschitz");
@@ -156,6 +157,7 @@ private:
     const Json& library_;
     std::string libraryPointer_;
     std::string file_;
+    FieldLibraryOptions options_;
     std::vector<std::string> stack_;
 };
 
@@ -337,6 +339,8 @@ uint32_t makeVariational(Compiler& c, JsonObjectReader& r, const LeafPlacement& 
     context.baseDirectory = std::filesystem::path(c.file()).parent_path().string();
     context.compile = [&](const Json& field, const std::string& pointer) { return c.compileAlone(field, pointer); };
     context.describe = [&](const std::string& name, const std::string& pointer) { return c.describe(name, pointer); };
+    if (c.options().fitCache) context.fits = c.options().fitCache;
+    context.warn = c.options().warn;
     return c.program.addLeaf(VariationalLeafField{variationalFieldFromDescription(r, context)}, p);
 }
 
@@ -474,8 +478,9 @@ PolynomialField polynomialPreset(const std::string& name) {
     throw std::invalid_argument("unknown polynomial preset " + name);
 }
 
-FieldLibrary::FieldLibrary(const Json& fields, std::string pointer, std::string file)
-    : fields_(fields), pointer_(std::move(pointer)), file_(std::move(file)) {
+FieldLibrary::FieldLibrary(const Json& fields, std::string pointer, std::string file, FieldLibraryOptions options)
+    : fields_(fields), pointer_(std::move(pointer)), file_(std::move(file)), options_(std::move(options)) {
+    if (!options_.fitCache) options_.fitCache = std::make_shared<FitCache>();
     if (!fields_.is_object()) throw InputError(file_, pointer_, "expected an object mapping field names to descriptions");
 }
 
@@ -488,13 +493,13 @@ std::vector<std::string> FieldLibrary::names() const {
 }
 
 FieldProgram FieldLibrary::compile(const std::string& name) const {
-    Compiler compiler(fields_, pointer_, file_);
+    Compiler compiler(fields_, pointer_, file_, options_);
     compiler.node(Json(name), pointer_, LeafPlacement{});
     return std::move(compiler.program);
 }
 
 FieldProgram FieldLibrary::compileDescription(const Json& description, const std::string& pointer) const {
-    Compiler compiler(fields_, pointer_, file_);
+    Compiler compiler(fields_, pointer_, file_, options_);
     compiler.node(description, pointer, LeafPlacement{});
     return std::move(compiler.program);
 }

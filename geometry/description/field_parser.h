@@ -4,20 +4,34 @@
 // every type and parameter.
 #pragma once
 
+#include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "geometry/field_program.h"
+#include "geometry/description/fit_cache.h"
 #include "geometry/description/json_reader.h"
 
 namespace isotrace::geometry {
+
+/// What the host lends the parser: nothing here is read from the
+/// environment or printed.
+struct FieldLibraryOptions {
+    /// Where variational fits are looked up and kept; null: a cache of the
+    /// library's own, in memory.
+    std::shared_ptr<FitCache> fitCache;
+    /// Told of what is not an error but a user should hear of (a fit of an
+    /// ill-conditioned system): the file, the JSON pointer, the message.
+    std::function<void(const std::string& file, const std::string& pointer, const std::string& message)> warn;
+};
 
 class FieldLibrary {
 public:
     FieldLibrary() = default;
     /// `fields` maps names to descriptions; `pointer` is where it sits in
     /// its file ("/fields"), `file` the file's name, both for errors.
-    FieldLibrary(const Json& fields, std::string pointer, std::string file);
+    FieldLibrary(const Json& fields, std::string pointer, std::string file, FieldLibraryOptions options = {});
 
     bool contains(const std::string& name) const;
     std::vector<std::string> names() const;
@@ -38,6 +52,7 @@ private:
     Json fields_ = Json::object();
     std::string pointer_;
     std::string file_;
+    FieldLibraryOptions options_;
 };
 
 /// Named polynomial presets: "tangle", "heart", "decocube", "pretzel2", "pretzel4".

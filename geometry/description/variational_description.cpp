@@ -1,15 +1,10 @@
 #include "geometry/description/variational_description.h"
 
 #include <algorithm>
-#include <cstdio>
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <map>
-#include <mutex>
 #include <unistd.h>
 
-#include "geometry/atomic_file.h"
 #include "geometry/content_hash.h"
 #include "geometry/mesh_file.h"
 #include "geometry/meshing/polygonizer.h"
@@ -54,12 +49,6 @@ std::vector<std::vector<double>> rows(JsonObjectReader& r, const std::string& ke
 Vec3 vec(const std::vector<double>& v, size_t first) { return {v[first], v[first + 1], v[first + 2]}; }
 
 Json vecJson(const Vec3& v) { return Json::array({v.x(), v.y(), v.z()}); }
-
-std::mutex cacheMutex;
-std::map<std::string, std::shared_ptr<const VariationalField>>& memoryCache() {
-    static std::map<std::string, std::shared_ptr<const VariationalField>> cache;
-    return cache;
-}
 
 }  // namespace
 
@@ -176,7 +165,7 @@ VariationalSource readVariationalSource(JsonObjectReader& r, VariationalContext&
             parts.push_back(readVariationalSource(part, context));
             part.finish();
             if (named) context.blendStack.pop_back();
-            fields.push_back(fitCached(parts.back(), part));
+            fields.push_back(fitCached(parts.back(), part, context));
             partProvenance.push_back(parts.back().provenance);
         }
         auto outsideOthers = [&](size_t self, const Vec3& p) {
@@ -270,51 +259,19 @@ VariationalField variationalFieldFromJson(const Json& json, const std::string& f
     return f;
 }
 
-std::string variationalCacheDirectory() {
-    if (const char* d = std::getenv("ISOTRACE_CACHE_DIR"); d && *d) return d;
-    if (const char* d = std::getenv("XDG_CACHE_HOME"); d && *d) return (std::filesystem::path(d) / "isotrace").string();
-    if (const char* d = std::getenv("HOME"); d && *d) return (std::filesystem::path(d) / ".cache" / "isotrace").string();
-    return "";
-}
-
-std::shared_ptr<const VariationalField> fitCached(const VariationalSource& source, const JsonObjectReader& r) {
-    {
-        std::lock_guard<std::mutex> lock(cacheMutex);
-        if (auto it = memoryCache().find(source.hash); it != memoryCache().end()) return it->second;
-    }
-    const std::string directory = variationalCacheDirectory();
-    const std::filesystem::path cached =
-        directory.empty() ? std::filesystem::path() : std::filesystem::path(directory) / ("variational-" + source.hash + ".json");
+std::shared_ptr<const VariationalField> fitCached(const VariationalSource& source, const JsonObjectReader& r,
+                                                  const VariationalContext& context) {
+    if (std::shared_ptr<const VariationalField> field = context.fits->find(source.hash)) return field;
+    FitReport report;
     std::shared_ptr<const VariationalField> field;
-    if (!cached.empty() && std::filesystem::exists(cached)) {
-        try {
-            const Json j = parseJsonFile(cached.string());
-            if (j.value("source_hash", "") == source.hash)
-                field = std::make_shared<const VariationalField>(variationalFieldFromJson(j, cached.string()));
-        } catch (const std::exception&) {
-            field.reset();  // a damaged cache entry is refitted and rewritten
-        }
+    try {
+        field = std::make_shared<const VariationalField>(fitVariationalField(source.constraints, &report, source.options));
+    } catch (const FitError& e) {
+        throw InputError(r.file(), r.pointer(), e.what());
     }
-    if (!field) {
-        FitReport report;
-        try {
-            field = std::make_shared<const VariationalField>(fitVariationalField(source.constraints, &report, source.options));
-        } catch (const FitError& e) {
-            throw InputError(r.file(), r.pointer(), e.what());
-        }
-        for (const std::string& w : report.warnings)
-            std::fprintf(stderr, "warning: %s: %s: %s\n", r.file().c_str(), r.pointer().c_str(), w.c_str());
-        if (!cached.empty()) {
-            // The cache is an optimisation: failing to write it is not an error.
-            try {
-                std::filesystem::create_directories(cached.parent_path());
-                writeFileAtomically(cached.string(), variationalFieldToJson(*field, report, source.provenance, source.hash).dump());
-            } catch (const std::exception&) {
-            }
-        }
-    }
-    std::lock_guard<std::mutex> lock(cacheMutex);
-    memoryCache().emplace(source.hash, field);
+    if (context.warn)
+        for (const std::string& w : report.warnings) context.warn(r.file(), r.pointer(), w);
+    context.fits->store(source.hash, field, report, source.provenance);
     return field;
 }
 
@@ -331,7 +288,7 @@ std::shared_ptr<const VariationalField> variationalFieldFromDescription(JsonObje
     }
     const VariationalSource source = readVariationalSource(r, context);
     r.finish();  // a misspelt key fails before a possibly long fit
-    return fitCached(source, r);
+    return fitCached(source, r, context);
 }
 
 }  // namespace isotrace::geometry

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "geometry/field_program.h"
+#include "geometry/description/fit_cache.h"
 #include "geometry/description/json_reader.h"
 #include "geometry/variational/rbf_solver.h"
 
@@ -30,18 +31,25 @@ struct VariationalContext {
     /// operands; throws InputError for unknown names.
     std::function<std::pair<const Json*, std::string>(const std::string& name, const std::string& pointer)> describe;
     std::vector<std::string> blendStack;  ///< names being blended, to report cycles
+    /// Where fits are looked up and kept (by default: this context's own
+    /// memory).
+    std::shared_ptr<FitCache> fits = std::make_shared<FitCache>();
+    /// Told of fits that succeed with a warning (ill-conditioned systems):
+    /// the file, the JSON pointer and the message. Empty: dropped.
+    std::function<void(const std::string& file, const std::string& pointer, const std::string& message)> warn;
 };
 
 /// Reads the constraint keys of `r` (all but "fitted"). Errors are
 /// InputErrors at the key.
 VariationalSource readVariationalSource(JsonObjectReader& r, VariationalContext& context);
 
-/// The fit of a source, from the in-memory cache, the disk cache, or the
-/// solver (then cached). Fit errors become InputErrors at `r`'s pointer.
-std::shared_ptr<const VariationalField> fitCached(const VariationalSource& source, const JsonObjectReader& r);
+/// The fit of a source, from the context's cache or the solver (then
+/// cached). Fit errors become InputErrors at `r`'s pointer.
+std::shared_ptr<const VariationalField> fitCached(const VariationalSource& source, const JsonObjectReader& r,
+                                                  const VariationalContext& context);
 
-/// The field of a description: loaded from "fitted", or fitted (and cached
-/// in memory and in variationalCacheDirectory()). Fit warnings go to stderr.
+/// The field of a description: loaded from "fitted", or fitted (and kept
+/// in the context's cache). Fit warnings go to the context's `warn`.
 std::shared_ptr<const VariationalField> variationalFieldFromDescription(JsonObjectReader& r,
                                                                          VariationalContext& context);
 
@@ -51,8 +59,5 @@ Json variationalFieldToJson(const VariationalField& field, const FitReport& repo
                             const std::string& hash);
 /// Reads the saved form; malformed content throws InputError naming `file`.
 VariationalField variationalFieldFromJson(const Json& json, const std::string& file);
-
-/// $ISOTRACE_CACHE_DIR, else $XDG_CACHE_HOME/isotrace, else ~/.cache/isotrace.
-std::string variationalCacheDirectory();
 
 }  // namespace isotrace::geometry

@@ -8,6 +8,7 @@
 #include "geometry/meshing/mesh_analysis.h"
 #include "geometry/meshing/polygonizer.h"
 #include "renderer/commands/command.h"
+#include "renderer/field_hosting.h"
 #include "renderer/image_output.h"
 #include "renderer/mesh_export.h"
 
@@ -29,7 +30,7 @@ int runPolygonize(const PolygonizeCommand& cmd) {
     const geometry::Json root = geometry::parseJsonFile(cmd.scene);
     if (!root.is_object() || !root.contains("fields"))
         throw geometry::InputError(cmd.scene, "/fields", "the scene has no \"fields\"");
-    const geometry::FieldLibrary library(root.at("fields"), "/fields", cmd.scene);
+    const geometry::FieldLibrary library(root.at("fields"), "/fields", cmd.scene, printingFieldOptions());
     // Unknown names fail here, at "/fields", with the nearest name suggested.
     const geometry::FieldProgram field = library.compile(cmd.field);
     geometry::PolygonizeOptions options;

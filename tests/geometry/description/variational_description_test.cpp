@@ -19,10 +19,9 @@ namespace {
 // Each test caches into its own folder.
 class CacheInFolder {
 public:
-    explicit CacheInFolder(const TemporaryFolder& folder) : path_(folder.file("cache")) {
-        setenv("ISOTRACE_CACHE_DIR", path_.c_str(), 1);
-    }
-    ~CacheInFolder() { unsetenv("ISOTRACE_CACHE_DIR"); }
+    explicit CacheInFolder(const TemporaryFolder& folder)
+        : path_(folder.file("cache")), fits_(std::make_shared<FitCache>(path_)) {}
+    FieldLibraryOptions options() const { return {fits_, {}}; }
     size_t entries() const {
         size_t n = 0;
         if (std::filesystem::exists(path_))
@@ -33,6 +32,7 @@ public:
 
 private:
     std::string path_;
+    std::shared_ptr<FitCache> fits_;
 };
 
 std::string compileError(const std::string& fieldsJson, const std::string& file = "scene.json") {
@@ -51,7 +51,7 @@ TEST(VariationalDescription, InlineConstraintsCompileAndInterpolate) {
     CacheInFolder cache(folder);
     const FieldLibrary library(Json::parse(R"({"v": {"type": "variational",
         "boundary": [[1, 1, 1], [1, -1, -1], [-1, 1, -1], [-1, -1, 1]], "interior": [[0, 0, 0]]}})"),
-                               "/fields", folder.file("scene.json"));
+                               "/fields", folder.file("scene.json"), cache.options());
     const FieldProgram f = library.compile("v");
     EXPECT_NEAR(f.value(Vec3(1, 1, 1)), 0.0, 1e-12);
     EXPECT_NEAR(f.value(Vec3::Zero()), -1.0, 1e-12);
@@ -74,7 +74,7 @@ TEST(VariationalDescription, SavedFitLoadsBitIdentically) {
     std::ofstream(folder.file("fit.json")) << variationalFieldToJson(fitted, report, source.provenance, source.hash).dump();
 
     const FieldLibrary library(Json::parse(R"({"v": {"type": "variational", "fitted": "fit.json"}})"), "/fields",
-                               folder.file("scene.json"));
+                               folder.file("scene.json"), cache.options());
     const FieldProgram loaded = library.compile("v");
     std::mt19937_64 rng(9);
     std::uniform_real_distribution<double> u(-1, 1);
@@ -90,17 +90,31 @@ TEST(VariationalDescription, FitsAreCachedByContent) {
     CacheInFolder cache(folder);
     const std::string fields = R"({"v": {"type": "variational", "points": ")" + testDataFile("sphere926.pwn") + R"(",
                                           "normal_offset": 0.02}})";
-    const FieldProgram first = FieldLibrary(Json::parse(fields), "/fields", "a.json").compile("v");
+    const FieldProgram first = FieldLibrary(Json::parse(fields), "/fields", "a.json", cache.options()).compile("v");
     EXPECT_EQ(cache.entries(), 1u);
     // A damaged cache entry is refitted, not trusted. (The in-memory cache
     // holds the first fit, so change the content a little: another offset.)
     for (const auto& e : std::filesystem::directory_iterator(cache.path())) std::ofstream(e.path()) << "{ damaged";
     const std::string other = R"({"v": {"type": "variational", "points": ")" + testDataFile("sphere926.pwn") + R"(",
                                          "normal_offset": 0.03}})";
-    FieldLibrary(Json::parse(other), "/fields", "a.json").compile("v");
+    FieldLibrary(Json::parse(other), "/fields", "a.json", cache.options()).compile("v");
     EXPECT_EQ(cache.entries(), 2u);
-    const FieldProgram again = FieldLibrary(Json::parse(fields), "/fields", "b.json").compile("v");
+    const FieldProgram again = FieldLibrary(Json::parse(fields), "/fields", "b.json", cache.options()).compile("v");
     EXPECT_EQ(again.value(Vec3(0.1, 0.2, 0.3)), first.value(Vec3(0.1, 0.2, 0.3)));
+}
+
+// The host decides where fits are kept: the library reads no environment.
+TEST(VariationalDescription, TheLibraryCachesOnlyWhereItIsTold) {
+    TemporaryFolder folder;
+    const std::string unused = folder.file("environment-cache");
+    setenv("ISOTRACE_CACHE_DIR", unused.c_str(), 1);
+    const std::string fields = R"({"v": {"type": "variational", "points": ")" + testDataFile("sphere926.pwn") + R"("}})";
+    FieldLibrary(Json::parse(fields), "/fields", "a.json").compile("v");
+    unsetenv("ISOTRACE_CACHE_DIR");
+    EXPECT_FALSE(std::filesystem::exists(unused));
+    CacheInFolder cache(folder);
+    FieldLibrary(Json::parse(fields), "/fields", "a.json", cache.options()).compile("v");
+    EXPECT_EQ(cache.entries(), 1u);
 }
 
 TEST(VariationalDescription, BadInputNamesThePlace) {
@@ -166,7 +180,7 @@ TEST(VariationalDescription, BlendKeepsTheConstraintsOutsideTheOtherOperands) {
     Json fields = {{"a", {{"type", "variational"}, {"normals", sphereNormals(Vec3(-0.5, 0, 0), 1.0, 120)}}},
                    {"b", {{"type", "variational"}, {"normals", sphereNormals(Vec3(0.5, 0, 0), 1.0, 120)}}},
                    {"v", {{"type", "variational"}, {"blend", {"a", "b"}}}}};
-    const FieldLibrary library(fields, "/fields", folder.file("scene.json"));
+    const FieldLibrary library(fields, "/fields", folder.file("scene.json"), cache.options());
     const FieldProgram a = library.compile("a"), b = library.compile("b"), blend = library.compile("v");
 
     // Each kept constraint lies outside the other sphere and is interpolated;
@@ -208,7 +222,8 @@ TEST(VariationalDescription, SampledFromAnotherField) {
     TemporaryFolder folder;
     CacheInFolder cache(folder);
     const FieldLibrary library(Json::parse(R"({"ring": {"type": "torus", "major": 1, "minor": 0.35},
-        "v": {"type": "variational", "sample": "ring", "count": 300}})"), "/fields", folder.file("scene.json"));
+        "v": {"type": "variational", "sample": "ring", "count": 300}})"), "/fields", folder.file("scene.json"),
+                               cache.options());
     const FieldProgram torus = library.compile("ring"), v = library.compile("v");
     // The fit follows the torus it was sampled from, hole included.
     std::mt19937_64 rng(2);
