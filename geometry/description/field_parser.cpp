@@ -21,7 +21,7 @@ class Compiler;
 using FieldFactory = std::function<uint32_t(Compiler&, JsonObjectReader&, const LeafPlacement&)>;
 const std::map<std::string, FieldFactory>& registry();
 
-class Compiler {
+class Compiler final : public FieldReferences {
 public:
     Compiler(const Json& library, std::string libraryPointer, std::string file, const FieldLibraryOptions& options)
         : library_(library), libraryPointer_(std::move(libraryPointer)), file_(std::move(file)), options_(options) {}
@@ -33,7 +33,7 @@ public:
 
     /// A field compiled on its own (names resolve in the same library, with
     /// the same cycle check).
-    FieldProgram compileAlone(const Json& description, const std::string& pointer) {
+    FieldProgram compileField(const Json& description, const std::string& pointer) override {
         Compiler alone(library_, libraryPointer_, file_, options_);
         alone.stack_ = stack_;
         alone.node(description, pointer, {});
@@ -41,7 +41,7 @@ public:
     }
 
     /// The description a name stands for, and its pointer.
-    std::pair<const Json*, std::string> describe(const std::string& name, const std::string& pointer) {
+    std::pair<const Json*, std::string> describe(const std::string& name, const std::string& pointer) override {
         if (!library_.contains(name)) {
             std::vector<std::string> names;
             for (auto it = library_.begin(); it != library_.end(); ++it) names.push_back(it.key());
@@ -337,8 +337,7 @@ uint32_t makeVariational(Compiler& c, JsonObjectReader& r, const LeafPlacement& 
     VariationalContext context;
     // Files named in the description are relative to the scene file.
     context.baseDirectory = std::filesystem::path(c.file()).parent_path().string();
-    context.compile = [&](const Json& field, const std::string& pointer) { return c.compileAlone(field, pointer); };
-    context.describe = [&](const std::string& name, const std::string& pointer) { return c.describe(name, pointer); };
+    context.references = &c;
     if (c.options().fitCache) context.fits = c.options().fitCache;
     context.warn = c.options().warn;
     return c.program.addLeaf(VariationalLeafField{variationalFieldFromDescription(r, context)}, p);

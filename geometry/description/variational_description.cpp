@@ -113,9 +113,9 @@ VariationalSource readVariationalSource(JsonObjectReader& r, VariationalContext&
         oriented.insert(oriented.end(), m.begin(), m.end());
     }
     if (r.has("sample")) {
-        if (!context.compile) r.fail("sample", "sampling other fields is not available here");
+        if (!context.references) r.fail("sample", "sampling other fields is not available here");
         const int count = int(r.integer("count", 200, 4, 100000));
-        const std::vector<OrientedPoint> s = samplesOf(context.compile(r.value("sample"), r.pointerOf("sample")), count, r);
+        const std::vector<OrientedPoint> s = samplesOf(context.references->compileField(r.value("sample"), r.pointerOf("sample")), count, r);
         oriented.insert(oriented.end(), s.begin(), s.end());
         provenance["sample"] = {{"field", r.value("sample")}, {"count", s.size()}};
     }
@@ -154,8 +154,8 @@ VariationalSource readVariationalSource(JsonObjectReader& r, VariationalContext&
                 const std::string name = description->get<std::string>();
                 if (std::find(context.blendStack.begin(), context.blendStack.end(), name) != context.blendStack.end())
                     throw InputError(r.file(), at, "cycle in the blend: \"" + name + "\" blends itself");
-                if (!context.describe) throw InputError(r.file(), at, "named operands are not available here");
-                std::tie(description, at) = context.describe(name, at);
+                if (!context.references) throw InputError(r.file(), at, "named operands are not available here");
+                std::tie(description, at) = context.references->describe(name, at);
                 context.blendStack.push_back(name);
                 named = true;
             }

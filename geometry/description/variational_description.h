@@ -22,14 +22,23 @@ struct VariationalSource {
     std::string hash;      ///< of the constraints and fit options themselves: the cache key
 };
 
+/// The other fields of the library a description sits in: "sample" compiles
+/// one, "blend" names some. The field parser's compiler is one.
+class FieldReferences {
+public:
+    virtual ~FieldReferences() = default;
+    /// Compiles a field (a name or a description at `pointer`).
+    virtual FieldProgram compileField(const Json& field, const std::string& pointer) = 0;
+    /// The description a name stands for, and its pointer; throws
+    /// InputError for unknown names.
+    virtual std::pair<const Json*, std::string> describe(const std::string& name, const std::string& pointer) = 0;
+};
+
 /// What a description may refer to beyond files.
 struct VariationalContext {
     std::string baseDirectory;  ///< file names are relative to it
-    /// Compiles a field (a name or a description at `pointer`), for "sample".
-    std::function<FieldProgram(const Json& field, const std::string& pointer)> compile;
-    /// The description a name stands for and its pointer, for "blend"
-    /// operands; throws InputError for unknown names.
-    std::function<std::pair<const Json*, std::string>(const std::string& name, const std::string& pointer)> describe;
+    /// Null where a description stands alone (`isotrace fit`).
+    FieldReferences* references = nullptr;
     std::vector<std::string> blendStack;  ///< names being blended, to report cycles
     /// Where fits are looked up and kept (by default: this context's own
     /// memory).
