@@ -3,17 +3,48 @@
 #include <algorithm>
 #include <cmath>
 
+#include "geometry/bounding_box.h"
+
 namespace isotrace {
 
 AreaLight::AreaLight(std::vector<std::array<Vec3, 3>> triangles, const Emission& emission)
     : emission_(emission), triangles_(std::move(triangles)) {
+    geometry::Box3 box;
     for (const auto& t : triangles_) {
         totalArea_ += 0.5 * (t[1] - t[0]).cross(t[2] - t[0]).norm();
         cumulativeArea_.push_back(totalArea_);
+        for (const Vec3& v : t) box.extend(v);
     }
+    if (triangles_.empty()) return;
+    center_ = box.center();
+    for (const auto& t : triangles_)
+        for (const Vec3& v : t) radius_ = std::max(radius_, (v - center_).norm());
+    if (emission_.twoSided) return;
+    // One normal for all (a quad, a disk, a flat mesh): points behind it get no light.
+    const Vec3 first = (triangles_[0][1] - triangles_[0][0]).cross(triangles_[0][2] - triangles_[0][0]).normalized();
+    for (const auto& t : triangles_) {
+        const Vec3 n = (t[1] - t[0]).cross(t[2] - t[0]);
+        if (n.norm() > 0 && n.normalized().dot(first) < 1.0 - 1e-9) return;
+    }
+    normal_ = first;
 }
 
-LightSample AreaLight::sample(const Vec3& p, const Eigen::Vector2d& u) const {
+double AreaLight::importance(const LightSampleContext& context) const {
+    if (triangles_.empty()) return 0.0;
+    const Vec3 toLight = center_ - context.p;
+    const double d = toLight.norm();
+    const double slack = sphereHalfAngle(radius_, d);
+    const Vec3 w = d > 0 ? Vec3(toLight / d) : Vec3(0, 0, 1);
+    const double cosLight = normal_.isZero() ? 1.0 : cosineBound(normal_, -w, slack);
+    const double cosReceiver = context.n.isZero() ? 1.0 : cosineBound(context.n, w, slack);
+    if (!(cosLight > 0) || !(cosReceiver > 0)) return 0.0;
+    // Irradiance of a small emitter L A cos cos / d^2, not above its value
+    // at the bounding sphere's surface.
+    return luminance(emission_.radiance) * totalArea_ * cosLight * cosReceiver / std::max(d * d, radius_ * radius_);
+}
+
+LightSample AreaLight::sample(const LightSampleContext& context, const Eigen::Vector2d& u) const {
+    const Vec3& p = context.p;
     LightSample s;
     // Pick a triangle by area, reusing u.x for the point inside it.
     const double target = u.x() * totalArea_;
@@ -29,16 +60,17 @@ LightSample AreaLight::sample(const Vec3& p, const Eigen::Vector2d& u) const {
     const Vec3 q = b0 * t[0] + b1 * t[1] + (1.0 - b0 - b1) * t[2];
     const Vec3 n = (t[1] - t[0]).cross(t[2] - t[0]).normalized();
     const Vec3 d = q - p;
+    s.point = q;
     s.distance = d.norm();
     if (!(s.distance > 0)) return s;
     s.direction = d / s.distance;
     s.radiance = emission_.emitted(n, -s.direction);
-    s.pdf = pdf(p, q, n);
+    s.pdf = pdf(context, s.direction, q, n);
     return s;
 }
 
-double AreaLight::pdf(const Vec3& p, const Vec3& onLight, const Vec3& lightNormal) const {
-    const Vec3 d = onLight - p;
+double AreaLight::pdf(const LightSampleContext& context, const Vec3&, const Vec3& onLight, const Vec3& lightNormal) const {
+    const Vec3 d = onLight - context.p;
     const double dist2 = d.squaredNorm();
     const double cosLight = std::abs(lightNormal.dot(d)) / std::sqrt(dist2);
     if (!(cosLight > 0)) return 0.0;

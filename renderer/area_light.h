@@ -18,14 +18,21 @@ public:
     double area() const { return totalArea_; }
     const std::vector<std::array<Vec3, 3>>& triangles() const { return triangles_; }
 
-    LightSample sample(const Vec3& p, const Eigen::Vector2d& u) const override;
-    double pdf(const Vec3& p, const Vec3& onLight, const Vec3& lightNormal) const override;
+    LightSample sample(const LightSampleContext& context, const Eigen::Vector2d& u) const override;
+    double pdf(const LightSampleContext& context, const Vec3& wi, const Vec3& onLight,
+               const Vec3& lightNormal) const override;
+    double importance(const LightSampleContext& context) const override;
 
 private:
     Emission emission_;
     std::vector<std::array<Vec3, 3>> triangles_;
     std::vector<double> cumulativeArea_;
     double totalArea_ = 0.0;
+    // Bounds for importance(): a sphere around the triangles, and the one
+    // normal of a flat one-sided emitter (zero otherwise).
+    Vec3 center_ = Vec3::Zero();
+    double radius_ = 0.0;
+    Vec3 normal_ = Vec3::Zero();
 };
 
 }  // namespace isotrace

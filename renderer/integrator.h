@@ -37,6 +37,13 @@ inline double rayOffset(const Vec3& p) { return 1e-4 * (1.0 + p.cwiseAbs().maxCo
 inline Vec3 offsetOrigin(const Vec3& p, const Vec3& n, const Vec3& w) {
     return p + (n.dot(w) >= 0 ? 1.0 : -1.0) * rayOffset(p) * n;
 }
+/// True when nothing blocks a light sample seen from surface point p
+/// (geometric normal ng, on the lit side). The shadow ray starts off the
+/// surface and, for a light at finite distance, aims at the sampled point
+/// from where it starts and ends just short of it: measured from the
+/// unshifted point it would reach past a light seen at a grazing angle and
+/// hit the light itself.
+bool unoccluded(const Scene& scene, const Vec3& p, const Vec3& ng, const LightSample& sample);
 /// The shading frame at a hit seen along direction wo: normals turned to
 /// wo's side (surfaces are two-sided).
 ShadingPoint shadingPointOf(const SurfaceHit& hit, const Vec3& wo);

@@ -13,9 +13,18 @@
 
 namespace isotrace {
 
+/// Where a light is sampled from: a point and, on a surface, its shading
+/// normal turned to the side being lit (lights may sample the directions
+/// that side sees).
+struct LightSampleContext {
+    Vec3 p = Vec3::Zero();
+    Vec3 n = Vec3::Zero();  ///< unit; zero for a point in space
+};
+
 struct LightSample {
     RGB radiance = RGB::Zero();  ///< incident radiance (or intensity / d^2 for delta lights)
     Vec3 direction;              ///< unit, from the shading point towards the light
+    Vec3 point = Vec3::Zero();   ///< the sampled point of a light at finite distance
     double distance = 0.0;       ///< to the sampled point; infinity for directional and environment
     double pdf = 0.0;            ///< solid-angle density (1 for delta lights)
     bool isDelta = false;
@@ -30,17 +39,35 @@ public:
     /// Lights at infinity, seen by rays that leave the scene.
     virtual bool isInfinite() const { return false; }
 
-    virtual LightSample sample(const Vec3& p, const Eigen::Vector2d& u) const = 0;
-    /// Solid-angle density with which sample() picks the point `onLight`
-    /// (normal `lightNormal`) seen from `p`; infinite lights: the direction
-    /// alone matters. Zero for delta lights.
-    virtual double pdf(const Vec3& p, const Vec3& onLight, const Vec3& lightNormal) const { return 0.0; }
+    virtual LightSample sample(const LightSampleContext& context, const Eigen::Vector2d& u) const = 0;
+    /// Solid-angle density with which sample() picks direction `wi` from
+    /// `context`, reaching the light at `onLight` with normal `lightNormal`
+    /// (infinite lights: the direction alone matters). Zero for delta lights.
+    virtual double pdf(const LightSampleContext& context, const Vec3& wi, const Vec3& onLight,
+                       const Vec3& lightNormal) const {
+        return 0.0;
+    }
+    /// How much this light may light `context`: an estimate of the
+    /// luminance of its irradiance there, from bounds of distance and
+    /// orientation. Lights are chosen for next-event estimation in
+    /// proportion to it, so it must be positive wherever the light can
+    /// contribute (zero only where it cannot: behind a one-sided emitter,
+    /// below the surface's horizon).
+    virtual double importance(const LightSampleContext& context) const = 0;
     /// Radiance arriving along a ray that leaves the scene in direction w.
     virtual RGB escapedRadiance(const Vec3& w) const { return RGB::Zero(); }
     /// The mean radiance of an infinite light over all directions (the
     /// Whitted preview's unshadowed ambient light).
     virtual RGB meanRadiance() const { return RGB::Zero(); }
 };
+
+/// An upper bound of cos(a, d') over all directions d' within `slack`
+/// radians of unit direction d (slack >= pi: 1). Light importances use it
+/// to bound the cosines over a light's extent.
+double cosineBound(const Vec3& a, const Vec3& d, double slack);
+/// The angle that a sphere of radius r at distance `distance` subtends
+/// around its centre's direction (pi when the point is inside it).
+double sphereHalfAngle(double r, double distance);
 
 class SceneBuilder;
 

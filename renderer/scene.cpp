@@ -72,6 +72,13 @@ void Scene::commit() {
     rtcCommitScene(top_);
 }
 
+geometry::Box3 Scene::bounds() const {
+    RTCBounds b;
+    rtcGetSceneBounds(top_, &b);
+    if (!(b.lower_x <= b.upper_x)) return {};
+    return geometry::Box3(Vec3(b.lower_x, b.lower_y, b.lower_z), Vec3(b.upper_x, b.upper_y, b.upper_z));
+}
+
 bool Scene::intersect(const Ray& ray, double tMax, SurfaceHit& hit) const {
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);

@@ -13,6 +13,7 @@
 #include "renderer/camera.h"
 #include "renderer/film.h"
 #include "renderer/light.h"
+#include "renderer/light_sampler.h"
 #include "renderer/material.h"
 #include "renderer/triangle_mesh.h"
 
@@ -62,6 +63,8 @@ public:
     std::vector<SceneObject> objects;
     std::vector<std::unique_ptr<const Light>> lights;
     int environmentLight = -1;
+    /// Chooses lights for next-event estimation (built with the scene).
+    LightSampler lightSampler;
     /// Things a user should hear about that are not errors (an empty mesh).
     std::vector<std::string> warnings;
 
@@ -73,6 +76,8 @@ public:
     bool occluded(const Vec3& origin, const Vec3& direction, double tMax) const;
 
     RTCDevice device() const { return device_; }
+    /// The world bounds of every object (after commit).
+    geometry::Box3 bounds() const;
 
 private:
     RTCDevice device_ = nullptr;

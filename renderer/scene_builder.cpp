@@ -122,6 +122,7 @@ std::unique_ptr<Scene> SceneBuilder::build() {
         scene_->lights.push_back(std::make_unique<AreaLight>(std::move(triangles), *m.emission));
     }
     scene_->commit();
+    scene_->lightSampler = LightSampler(scene_->lights);
     return std::move(scene_);
 }
 

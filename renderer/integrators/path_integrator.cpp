@@ -17,19 +17,19 @@ public:
 
     RGB radiance(const Scene& scene, const Ray& cameraRay, Sampler& sampler) const override {
         const auto& lights = scene.lights;
-        const double lightCount = double(lights.size());
         RGB L = RGB::Zero(), beta = RGB::Ones();
         Ray ray = cameraRay;
         bool countEmissionFully = true;  // camera rays and specular bounces cannot sample lights
         double bsdfPdf = 0.0;
-        Vec3 previous = ray.origin;
+        LightSampleContext previous{ray.origin, Vec3::Zero()};  // where the current ray left a surface
 
         for (int depth = 0;; ++depth) {
             SurfaceHit hit;
             if (!scene.intersect(ray, INFINITY, hit)) {
                 if (scene.environmentLight >= 0) {
                     const Light& env = *lights[scene.environmentLight];
-                    const double w = countEmissionFully ? 1.0 : powerHeuristic(bsdfPdf, env.pdf(previous, {}, {}) / lightCount);
+                    const double lightPdf = env.pdf(previous, ray.direction, {}, {}) * scene.lightSampler.pmf(previous, scene.environmentLight);
+                    const double w = countEmissionFully ? 1.0 : powerHeuristic(bsdfPdf, lightPdf);
                     L += beta * w * env.escapedRadiance(ray.direction);
                 }
                 break;
@@ -42,7 +42,9 @@ public:
                 if (front) {
                     double w = 1.0;
                     if (!countEmissionFully && object.areaLight >= 0) {
-                        const double lightPdf = lights[object.areaLight]->pdf(previous, hit.position, hit.geometricNormal) / lightCount;
+                        const double lightPdf =
+                            lights[object.areaLight]->pdf(previous, ray.direction, hit.position, hit.geometricNormal) *
+                            scene.lightSampler.pmf(previous, object.areaLight);
                         w = powerHeuristic(bsdfPdf, lightPdf);
                     }
                     L += beta * w * material.emission->radiance;
@@ -62,24 +64,23 @@ public:
                 beta *= s->weight;
                 ray = {offsetOrigin(hit.position, ng, s->wi), s->wi};
                 countEmissionFully = true;
-                previous = hit.position;
+                previous = {hit.position, ns};
                 continue;
             }
 
-            // Next-event estimation towards one light chosen uniformly.
+            // Next-event estimation towards one light chosen by its importance here.
             const double uLight = sampler.get1D();
             const Eigen::Vector2d uSample = sampler.get2D();
-            if (!lights.empty()) {
-                const size_t index = std::min(size_t(uLight * lightCount), lights.size() - 1);
+            const LightSampleContext here{hit.position, ns};
+            double lightChoice = 0.0;
+            if (const int index = scene.lightSampler.sample(here, uLight, lightChoice); index >= 0) {
                 const Light& light = *lights[index];
-                const LightSample ls = light.sample(hit.position, uSample);
+                const LightSample ls = light.sample(here, uSample);
                 const double cosTheta = ns.dot(ls.direction);
                 if (ls.pdf > 0 && cosTheta > 0 && ng.dot(ls.direction) > 0 && (ls.radiance > 0).any()) {
-                    const Vec3 origin = offsetOrigin(hit.position, ng, ls.direction);
-                    const double tMax = std::isfinite(ls.distance) ? ls.distance - 2.0 * rayOffset(hit.position) : INFINITY;
-                    if (!scene.occluded(origin, ls.direction, tMax)) {
+                    if (unoccluded(scene, hit.position, ng, ls)) {
                         const RGB f = bsdf.evaluate(sp, wo, ls.direction);
-                        const double lightPdf = ls.pdf / lightCount;
+                        const double lightPdf = ls.pdf * lightChoice;
                         const double w = ls.isDelta ? 1.0 : powerHeuristic(lightPdf, bsdf.pdf(sp, wo, ls.direction));
                         L += beta * f * ls.radiance * (w * cosTheta / lightPdf);
                     }
@@ -92,7 +93,7 @@ public:
             beta *= s->weight;
             bsdfPdf = s->pdf;
             countEmissionFully = s->delta;
-            previous = hit.position;
+            previous = here;
             ray = {offsetOrigin(hit.position, ng, s->wi), s->wi};
 
             const double uRoulette = sampler.get1D();

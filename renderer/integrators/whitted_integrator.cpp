@@ -47,12 +47,10 @@ public:
                     L += beta * bsdf.albedo(sp) * light->meanRadiance();
                     continue;
                 }
-                const LightSample ls = light->sample(hit.position, sampler.get2D());
+                const LightSample ls = light->sample({hit.position, ns}, sampler.get2D());
                 const double cosTheta = ns.dot(ls.direction);
                 if (!(ls.pdf > 0) || cosTheta <= 0 || ng.dot(ls.direction) <= 0) continue;
-                const Vec3 origin = offsetOrigin(hit.position, ng, ls.direction);
-                const double tMax = std::isfinite(ls.distance) ? ls.distance - 2.0 * rayOffset(hit.position) : INFINITY;
-                if (!scene.occluded(origin, ls.direction, tMax))
+                if (unoccluded(scene, hit.position, ng, ls))
                     L += beta * bsdf.evaluate(sp, wo, ls.direction) * ls.radiance * (cosTheta / ls.pdf);
             }
             break;

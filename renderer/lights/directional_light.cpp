@@ -18,7 +18,7 @@ public:
 
     bool isDelta() const override { return true; }
     bool isInfinite() const override { return true; }
-    LightSample sample(const Vec3&, const Eigen::Vector2d&) const override {
+    LightSample sample(const LightSampleContext&, const Eigen::Vector2d&) const override {
         LightSample s;
         s.direction = -direction_;
         s.distance = std::numeric_limits<double>::infinity();
@@ -26,6 +26,10 @@ public:
         s.pdf = 1.0;
         s.isDelta = true;
         return s;
+    }
+    double importance(const LightSampleContext& context) const override {
+        const double cosReceiver = context.n.isZero() ? 1.0 : -context.n.dot(direction_);
+        return cosReceiver > 0 ? luminance(irradiance_) * cosReceiver : 0.0;
     }
 
 private:

@@ -1,4 +1,6 @@
 // "point": an isotropic point light of the given intensity (W/sr).
+#include <cmath>
+
 #include "renderer/light.h"
 #include "renderer/scene_builder.h"
 #include "renderer/scene_values.h"
@@ -12,15 +14,22 @@ public:
     PointLight(const Vec3& position, const RGB& intensity) : position_(position), intensity_(intensity) {}
 
     bool isDelta() const override { return true; }
-    LightSample sample(const Vec3& p, const Eigen::Vector2d&) const override {
+    LightSample sample(const LightSampleContext& context, const Eigen::Vector2d&) const override {
         LightSample s;
-        const Vec3 d = position_ - p;
+        const Vec3 d = position_ - context.p;
+        s.point = position_;
         s.distance = d.norm();
         s.direction = d / s.distance;
         s.radiance = intensity_ / (s.distance * s.distance);
         s.pdf = 1.0;
         s.isDelta = true;
         return s;
+    }
+    double importance(const LightSampleContext& context) const override {
+        const Vec3 d = position_ - context.p;
+        const double d2 = d.squaredNorm();
+        const double cosReceiver = context.n.isZero() ? 1.0 : context.n.dot(d) / std::sqrt(d2);
+        return cosReceiver > 0 ? luminance(intensity_) * cosReceiver / d2 : 0.0;
     }
 
 private:

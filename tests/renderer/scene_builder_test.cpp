@@ -66,5 +66,5 @@ TEST(SceneBuilder, EmittersBecomeAreaLightsAndMisuseIsAnInternalError) {
     EXPECT_EQ(scene->objects[0].areaLight, 0);
     // Seen from above its centre, a uniform emitter of area 1 at distance d
     // is sampled with solid-angle density d^2 / (cos * area).
-    EXPECT_NEAR(scene->lights[0]->pdf(Vec3(0.5, -2, 0.5), Vec3(0.5, 0, 0.5), Vec3(0, 1, 0)), 4.0, 1e-12);
+    EXPECT_NEAR(scene->lights[0]->pdf({Vec3(0.5, -2, 0.5)}, Vec3(0, 1, 0), Vec3(0.5, 0, 0.5), Vec3(0, 1, 0)), 4.0, 1e-12);
 }

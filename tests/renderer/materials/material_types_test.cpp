@@ -100,7 +100,7 @@ INSTANTIATE_TEST_SUITE_P(Catalog, EveryMaterial, ::testing::ValuesIn(materialCat
 class EveryLight : public ::testing::TestWithParam<PluginEntry> {};
 
 // A light's samples carry the density pdf() gives for the point they chose,
-// and face the point they light.
+// and a light that sends light to a point has importance there.
 TEST_P(EveryLight, SamplesAgreeWithPdf) {
     SceneBuilder builder;
     builder.addLight(GetParam().description);
@@ -109,15 +109,21 @@ TEST_P(EveryLight, SamplesAgreeWithPdf) {
     const Light& light = *scene->lights[0];
     const Vec3 p(0.1, 0, 0.2);
     Sampler sampler(SamplerType::Sobol, 5);
-    for (int s = 0; s < 64; ++s) {
+    for (int s = 0; s < 128; ++s) {
         sampler.startPixelSample(0, 0, s);
-        const LightSample ls = light.sample(p, sampler.get2D());
+        // From a point in space, and from a surface facing up.
+        const LightSampleContext context{p, s % 2 ? Vec3(0, 1, 0) : Vec3::Zero()};
+        const LightSample ls = light.sample(context, sampler.get2D());
         ASSERT_NEAR(ls.direction.norm(), 1.0, 1e-12);
+        // A light that can light the point must have a chance to be chosen.
+        const bool contributes = (ls.radiance > 0).any() && ls.pdf > 0 && (context.n.isZero() || context.n.dot(ls.direction) > 0);
+        if (contributes) EXPECT_GT(light.importance(context), 0.0) << "sample " << s;
         EXPECT_EQ(ls.isDelta, light.isDelta());
         if (light.isDelta()) continue;
-        const Vec3 onLight = std::isfinite(ls.distance) ? Vec3(p + ls.distance * ls.direction) : ls.direction;
+        const Vec3 onLight = std::isfinite(ls.distance) ? ls.point : ls.direction;
+        if (std::isfinite(ls.distance)) EXPECT_LT((ls.point - (p + ls.distance * ls.direction)).norm(), 1e-9);
         // Area lights in the catalog face down at y = 2: their normal is -y.
-        EXPECT_NEAR(light.pdf(p, onLight, Vec3(0, -1, 0)), ls.pdf, 1e-9 * ls.pdf);
+        EXPECT_NEAR(light.pdf(context, ls.direction, onLight, Vec3(0, -1, 0)), ls.pdf, 1e-9 * ls.pdf);
         EXPECT_GT(ls.radiance.maxCoeff(), 0.0);
     }
 }
