@@ -31,7 +31,7 @@ struct SceneObject {
     std::string name;
     int shape = 0;  ///< index into Scene::meshes or Scene::surfaces
     int material = 0;
-    int areaLight = -1;  ///< index into Scene::lights for emissive meshes
+    int areaLight = -1;  ///< index into Scene::lights for emissive objects
     Mat4 worldFromObject = Mat4::Identity();
     Mat3 normalFromObject = Mat3::Identity();  ///< inverse transpose of the linear part
 };
@@ -78,6 +78,11 @@ public:
     RTCDevice device() const { return device_; }
     /// The world bounds of every object (after commit).
     geometry::Box3 bounds() const;
+    /// The Embree scene of the shape an object places, in the shape's own
+    /// space (after commit): for tracing one object alone.
+    RTCScene shapeScene(const SceneObject& object) const {
+        return shapeScenes_[object.kind == SceneObject::Kind::Mesh ? object.shape : meshes.size() + object.shape];
+    }
 
 private:
     RTCDevice device_ = nullptr;

@@ -4,6 +4,7 @@
 #include <type_traits>
 
 #include "renderer/area_light.h"
+#include "renderer/implicit_emitter_light.h"
 
 namespace isotrace {
 
@@ -122,6 +123,14 @@ std::unique_ptr<Scene> SceneBuilder::build() {
         scene_->lights.push_back(std::make_unique<AreaLight>(std::move(triangles), *m.emission));
     }
     scene_->commit();
+    // Emissive implicit objects are traced when sampled: their lights come
+    // once the scene's structures exist.
+    for (SceneObject& o : scene_->objects) {
+        const Material& m = scene_->materials[o.material];
+        if (!m.emission || o.kind != SceneObject::Kind::Implicit) continue;
+        o.areaLight = int(scene_->lights.size());
+        scene_->lights.push_back(std::make_unique<ImplicitEmitterLight>(*scene_, o, *m.emission));
+    }
     scene_->lightSampler = LightSampler(scene_->lights);
     return std::move(scene_);
 }

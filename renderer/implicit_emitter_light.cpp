@@ -1,0 +1,115 @@
+#include "renderer/implicit_emitter_light.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+
+namespace isotrace {
+
+namespace {
+
+// An orthonormal frame around unit w (Duff et al. 2017).
+void frameAround(const Vec3& w, Vec3& s, Vec3& t) {
+    const double sign = std::copysign(1.0, w.z());
+    const double a = -1.0 / (sign + w.z());
+    const double b = w.x() * w.y() * a;
+    s = Vec3(1.0 + sign * w.x() * w.x() * a, sign * b, -sign * w.x());
+    t = Vec3(b, sign + w.y() * w.y() * a, -w.y());
+}
+
+// cos of the half-angle of the cone of directions from a point at distance
+// d to a sphere of radius r (d > r).
+double coneCosine(double r, double d) { return std::sqrt(std::max(0.0, 1.0 - (r * r) / (d * d))); }
+
+}  // namespace
+
+ImplicitEmitterLight::ImplicitEmitterLight(const Scene& scene, const SceneObject& object, const Emission& emission)
+    : shape_(scene.shapeScene(object)),
+      worldFromObject_(object.worldFromObject),
+      objectFromWorld_(object.worldFromObject.inverse()),
+      normalFromObject_(object.normalFromObject),
+      emission_(emission) {
+    const geometry::Box3 local = scene.surfaces[object.shape]->bounds();
+    if (local.isEmpty()) return;
+    geometry::Box3 world;
+    for (int k = 0; k < 8; ++k) world.extend((worldFromObject_ * local.corner(k).homogeneous()).head<3>());
+    center_ = world.center();
+    radius_ = world.halfDiagonal();
+}
+
+double ImplicitEmitterLight::directionPdf(const Vec3& p, const Vec3& wi) const {
+    const Vec3 toCenter = center_ - p;
+    const double d = toCenter.norm();
+    if (d <= radius_) return 1.0 / (4.0 * std::numbers::pi);
+    const double cosMax = coneCosine(radius_, d);
+    if (toCenter.dot(wi) / d < cosMax) return 0.0;
+    return 1.0 / (2.0 * std::numbers::pi * (1.0 - cosMax));
+}
+
+LightSample ImplicitEmitterLight::sample(const LightSampleContext& context, const Eigen::Vector2d& u) const {
+    LightSample s;
+    if (!(radius_ > 0)) return s;
+    const Vec3& p = context.p;
+    const Vec3 toCenter = center_ - p;
+    const double d = toCenter.norm();
+    const double phi = 2.0 * std::numbers::pi * u.y();
+    if (d <= radius_) {
+        const double z = 1.0 - 2.0 * u.x(), r = std::sqrt(std::max(0.0, 1.0 - z * z));
+        s.direction = Vec3(r * std::cos(phi), z, r * std::sin(phi));
+    } else {
+        const Vec3 w = toCenter / d;
+        Vec3 a, b;
+        frameAround(w, a, b);
+        const double cosTheta = 1.0 - u.x() * (1.0 - coneCosine(radius_, d));
+        const double sinTheta = std::sqrt(std::max(0.0, 1.0 - cosTheta * cosTheta));
+        s.direction = (sinTheta * std::cos(phi) * a + sinTheta * std::sin(phi) * b + cosTheta * w).normalized();
+    }
+    s.pdf = directionPdf(p, s.direction);
+
+    // The first point of the object along the direction, traced in the
+    // object's space (an affine map keeps t).
+    RTCIntersectContext rtcContext;
+    rtcInitIntersectContext(&rtcContext);
+    RTCRayHit rh;
+    const Vec3 o = (objectFromWorld_ * p.homogeneous()).head<3>();
+    const Vec3 dir = objectFromWorld_.topLeftCorner<3, 3>() * s.direction;
+    rh.ray.org_x = float(o.x());
+    rh.ray.org_y = float(o.y());
+    rh.ray.org_z = float(o.z());
+    rh.ray.dir_x = float(dir.x());
+    rh.ray.dir_y = float(dir.y());
+    rh.ray.dir_z = float(dir.z());
+    rh.ray.tnear = 0.0f;
+    rh.ray.tfar = std::numeric_limits<float>::infinity();
+    rh.ray.mask = 0xFFFFFFFFu;
+    rh.ray.flags = 0;
+    rh.ray.time = 0.0f;
+    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    rtcIntersect1(shape_, &rtcContext, &rh);
+    if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return s;  // a direction of the cone that misses: no light
+    s.distance = rh.ray.tfar;
+    s.point = p + s.distance * s.direction;
+    const Vec3 n = (normalFromObject_ * Vec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z)).normalized();
+    s.radiance = emission_.emitted(n, -s.direction);
+    return s;
+}
+
+double ImplicitEmitterLight::pdf(const LightSampleContext& context, const Vec3& wi, const Vec3&, const Vec3&) const {
+    return radius_ > 0 ? directionPdf(context.p, wi) : 0.0;
+}
+
+double ImplicitEmitterLight::importance(const LightSampleContext& context) const {
+    if (!(radius_ > 0)) return 0.0;
+    // A uniformly emitting sphere of the bounding radius: pi L (r/d)^2 on a
+    // surface facing it, pi L from inside.
+    const Vec3 toCenter = center_ - context.p;
+    const double d = toCenter.norm();
+    const double solid = d <= radius_ ? 1.0 : (radius_ * radius_) / (d * d);
+    const double cosReceiver =
+        context.n.isZero() || d <= radius_ ? 1.0 : cosineBound(context.n, toCenter / d, sphereHalfAngle(radius_, d));
+    return cosReceiver > 0 ? luminance(emission_.radiance) * std::numbers::pi * solid * cosReceiver : 0.0;
+}
+
+}  // namespace isotrace
