@@ -7,6 +7,7 @@
 #include "renderer/light.h"
 #include "renderer/material.h"
 #include "renderer/scene_builder.h"
+#include "support/chi_square.h"
 #include "support/plugin_catalog.h"
 
 using namespace isotrace;
@@ -91,6 +92,32 @@ TEST_P(EveryMaterial, SamplesAgreeWithEvaluateAndPdf) {
         // error is below 0.5 / sqrt(4000) = 0.008.
         EXPECT_TRUE(((energy - bsdf.albedo(p)).abs() < 0.03).all()) << energy.transpose() << " vs "
                                                                    << bsdf.albedo(p).transpose();
+    }
+}
+
+// Every non-delta BSDF's sample() against its pdf() (Pearson's chi-square
+// over cells of equal solid angle), for several incident directions: the
+// 1% level after a Bonferroni correction over materials and directions.
+TEST_P(EveryMaterial, SamplingPassesChiSquareAgainstPdf) {
+    const Material m = make(GetParam());
+    if (!m.bsdf || m.bsdf->isDeltaOnly()) GTEST_SKIP() << "no lobe with a density";
+    const ShadingPoint p = tiltedPoint();
+    std::mt19937 rng(3);
+    const int directions = 4;
+    const double level = 0.01 / (directions * double(materialCatalog().size()));
+    for (int k = 0; k < directions; ++k) {
+        const Vec3 wo = directionAbove(p.shadingNormal, rng);
+        Sampler sampler(SamplerType::Independent, 100 + k);
+        const auto result = isotrace::testing::directionChiSquare<Vec3>(
+            100000,
+            [&](int i) {
+                sampler.startPixelSample(i, k, 0);
+                const auto s = m.bsdf->sample(p, wo, sampler);
+                return s ? s->wi : Vec3(Vec3::Zero());
+            },
+            [&](const Vec3& w) { return m.bsdf->pdf(p, wo, w); });
+        EXPECT_EQ(result.impossible, 0.0);
+        EXPECT_GT(result.pValue, level) << "chi2 " << result.statistic << ", " << result.degreesOfFreedom << " dof";
     }
 }
 
