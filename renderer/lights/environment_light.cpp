@@ -62,8 +62,9 @@ private:
 /// A latitude-longitude map: column u at azimuth phi = 2 pi (u - 1/2) with
 /// u = 1/2 straight ahead along -z (what the default camera looks at) and
 /// +x at u = 3/4; row v at polar angle theta = pi v from +y. Bilinear
-/// lookups; directions are sampled by texel luminance times sin theta (a
-/// texel's solid angle), with the density converted to solid angle.
+/// lookups; directions are sampled by texel luminance (the brightest of a
+/// texel's neighbourhood) times sin theta (a texel's solid angle), with the
+/// density converted to solid angle.
 class EnvironmentMapLight final : public Light {
 public:
     EnvironmentMapLight(std::vector<float> texels, int width, int height, double scale, const Mat3& worldFromMap)
@@ -72,12 +73,25 @@ public:
         std::vector<double> weights(size_t(width) * height);
         double meanLuminance = 0.0, solidAngle = 0.0;
         mean_ = RGB::Zero();
+        auto luminanceAt = [&](int x, int y) {
+            x = ((x % width) + width) % width;
+            y = std::clamp(y, 0, height - 1);
+            const float* t = &texels_[3 * (size_t(y) * width + x)];
+            return luminance(RGB(t[0], t[1], t[2]));
+        };
         for (int y = 0; y < height; ++y) {
             const double sinTheta = std::sin(std::numbers::pi * (y + 0.5) / height);
             for (int x = 0; x < width; ++x) {
                 const float* t = &texels_[3 * (size_t(y) * width + x)];
                 const RGB c(t[0], t[1], t[2]);
-                weights[size_t(y) * width + x] = luminance(c) * sinTheta;
+                // Bilinear lookups reach half a texel into the neighbours:
+                // weigh a texel by the brightest around it, so every direction
+                // that receives light can be sampled (no fireflies left to
+                // BSDF sampling at a bright texel's edge).
+                double brightest = 0.0;
+                for (int dy = -1; dy <= 1; ++dy)
+                    for (int dx = -1; dx <= 1; ++dx) brightest = std::max(brightest, luminanceAt(x + dx, y + dy));
+                weights[size_t(y) * width + x] = brightest * sinTheta;
                 mean_ += c * sinTheta;
                 meanLuminance += luminance(c) * sinTheta;
                 solidAngle += sinTheta;
