@@ -33,7 +33,7 @@ double AreaLight::importance(const LightSampleContext& context) const {
     if (triangles_.empty()) return 0.0;
     const Vec3 toLight = center_ - context.p;
     const double d = toLight.norm();
-    const double slack = sphereHalfAngle(radius_, d);
+    const double slack = sphereSinHalfAngle(radius_, d);
     const Vec3 w = d > 0 ? Vec3(toLight / d) : Vec3(0, 0, 1);
     const double cosLight = normal_.isZero() ? 1.0 : cosineBound(normal_, -w, slack);
     const double cosReceiver = context.n.isZero() ? 1.0 : cosineBound(context.n, w, slack);

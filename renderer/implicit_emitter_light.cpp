@@ -108,7 +108,7 @@ double ImplicitEmitterLight::importance(const LightSampleContext& context) const
     const double d = toCenter.norm();
     const double solid = d <= radius_ ? 1.0 : (radius_ * radius_) / (d * d);
     const double cosReceiver =
-        context.n.isZero() || d <= radius_ ? 1.0 : cosineBound(context.n, toCenter / d, sphereHalfAngle(radius_, d));
+        context.n.isZero() || d <= radius_ ? 1.0 : cosineBound(context.n, toCenter / d, sphereSinHalfAngle(radius_, d));
     return cosReceiver > 0 ? luminance(emission_.radiance) * std::numbers::pi * solid * cosReceiver : 0.0;
 }
 

@@ -61,13 +61,13 @@ public:
     virtual RGB meanRadiance() const { return RGB::Zero(); }
 };
 
-/// An upper bound of cos(a, d') over all directions d' within `slack`
-/// radians of unit direction d (slack >= pi: 1). Light importances use it
-/// to bound the cosines over a light's extent.
-double cosineBound(const Vec3& a, const Vec3& d, double slack);
-/// The angle that a sphere of radius r at distance `distance` subtends
-/// around its centre's direction (pi when the point is inside it).
-double sphereHalfAngle(double r, double distance);
+/// An upper bound of cos(a, d') over all directions d' within an angle of
+/// sine `sinSlack` of unit direction d (sinSlack >= 1: any direction).
+/// Light importances use it to bound the cosines over a light's extent.
+double cosineBound(const Vec3& a, const Vec3& d, double sinSlack);
+/// The sine of the half-angle that a sphere of radius r at distance
+/// `distance` subtends (1 when the point is inside it).
+double sphereSinHalfAngle(double r, double distance);
 
 class SceneBuilder;
 

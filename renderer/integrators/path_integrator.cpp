@@ -22,13 +22,14 @@ public:
         bool countEmissionFully = true;  // camera rays and specular bounces cannot sample lights
         double bsdfPdf = 0.0;
         LightSampleContext previous{ray.origin, Vec3::Zero()};  // where the current ray left a surface
+        double previousImportance = 0.0;  // the lights' total importance there
 
         for (int depth = 0;; ++depth) {
             SurfaceHit hit;
             if (!scene.intersect(ray, INFINITY, hit)) {
                 if (scene.environmentLight >= 0) {
                     const Light& env = *lights[scene.environmentLight];
-                    const double lightPdf = env.pdf(previous, ray.direction, {}, {}) * scene.lightSampler.pmf(previous, scene.environmentLight);
+                    const double lightPdf = env.pdf(previous, ray.direction, {}, {}) * scene.lightSampler.pmf(previous, scene.environmentLight, previousImportance);
                     const double w = countEmissionFully ? 1.0 : powerHeuristic(bsdfPdf, lightPdf);
                     L += beta * w * env.escapedRadiance(ray.direction);
                 }
@@ -44,7 +45,7 @@ public:
                     if (!countEmissionFully && object.areaLight >= 0) {
                         const double lightPdf =
                             lights[object.areaLight]->pdf(previous, ray.direction, hit.position, hit.geometricNormal) *
-                            scene.lightSampler.pmf(previous, object.areaLight);
+                            scene.lightSampler.pmf(previous, object.areaLight, previousImportance);
                         w = powerHeuristic(bsdfPdf, lightPdf);
                     }
                     L += beta * w * material.emission->radiance;
@@ -72,8 +73,9 @@ public:
             const double uLight = sampler.get1D();
             const Eigen::Vector2d uSample = sampler.get2D();
             const LightSampleContext here{hit.position, ns};
+            const double importance = scene.lightSampler.totalImportance(here);
             double lightChoice = 0.0;
-            if (const int index = scene.lightSampler.sample(here, uLight, lightChoice); index >= 0) {
+            if (const int index = scene.lightSampler.sample(here, uLight, importance, lightChoice); index >= 0) {
                 const Light& light = *lights[index];
                 const LightSample ls = light.sample(here, uSample);
                 const double cosTheta = ns.dot(ls.direction);
@@ -94,6 +96,7 @@ public:
             bsdfPdf = s->pdf;
             countEmissionFully = s->delta;
             previous = here;
+            previousImportance = importance;
             ray = {offsetOrigin(hit.position, ng, s->wi), s->wi};
 
             const double uRoulette = sampler.get1D();

@@ -1,0 +1,33 @@
+#!/usr/bin/env bash
+# Monte Carlo efficiency 1/(RMSE^2 * seconds) of 64-spp renders against a
+# converged render of the same scene, for each isotrace binary given (the
+# default: this build), so that two versions are measured in one run:
+#   bash bench/light_efficiency.sh [ISOTRACE ...]
+# Scenes: a sphere on a floor under a small quad light
+# (bench/scenes/sphere_quad.json) and scenes/showcase.json, at 160x90.
+# Each binary renders each scene 5 times with different seeds; the figure
+# uses the median render seconds (the renderer's own timing of the render
+# phase) and the mean squared error over the five.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+binaries=("$@"); ((${#binaries[@]})) || binaries=(build/isotrace)
+scratch=$(mktemp -d); trap 'rm -rf "$scratch"' EXIT
+size=(--width 160 --height 90)
+for scene in bench/scenes/sphere_quad.json scenes/showcase.json; do
+  name=$(basename "$scene" .json)
+  # The converged image: the first binary at 8,192 spp.
+  "${binaries[0]}" render "$scene" "${size[@]}" --spp 8192 --seed 99 --threads 2 -q --no-preview -o "$scratch/$name-ref.exr"
+  for bin in "${binaries[@]}"; do
+    times=(); mse=0
+    for seed in 1 2 3 4 5; do
+      out="$scratch/$name-$seed.exr"
+      "$bin" render "$scene" "${size[@]}" --spp 64 --seed "$seed" --threads 2 -q --no-preview -o "$out"
+      times+=("$(oiiotool --info -v "$out" | sed -n 's/.*isotrace:render_seconds: "\(.*\)"/\1/p')")
+      rmse=$(build/isotrace compare "$out" "$scratch/$name-ref.exr" --metric rmse --json | sed -n 's/.*"rmse": \(.*\),/\1/p')
+      mse=$(awk -v a="$mse" -v r="$rmse" 'BEGIN { print a + r * r / 5 }')
+    done
+    median=$(printf '%s\n' "${times[@]}" | sort -g | sed -n 3p)
+    awk -v n="$name" -v b="$bin" -v t="$median" -v m="$mse" \
+      'BEGIN { printf "%-12s %-40s render %.3f s  RMSE^2 %.4g  efficiency %.4g\n", n, b, t, m, 1 / (m * t) }'
+  done
+done
