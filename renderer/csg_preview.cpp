@@ -63,6 +63,10 @@ std::vector<Panel> panelsOf(const Json& node, const std::string& file, const std
         throw InputError(file, pointer, "is a \"" + type + "\" field, not a CSG node (" + names + ")");
     }
     const Json& of = node.at("of");
+    if (!of.is_array() || of.size() < 2)
+        throw InputError(file, pointer + "/of",
+                         "a CSG node needs two operands or more to preview; this one has " +
+                             std::to_string(of.is_array() ? of.size() : 0));
     const bool smooth = type.rfind("smooth_", 0) == 0;
     auto combine = [&](const char* op, const std::vector<Json>& operands) {
         Json j = {{"type", op}, {"of", operands}};
@@ -221,7 +225,7 @@ std::string defaultPreviewPath(const std::string& scene, const std::string& fiel
 void runPreview(const PreviewCommand& c) {
     const auto start = std::chrono::steady_clock::now();
     const std::string output = c.output.empty() ? defaultPreviewPath(c.scene, c.field, !c.section.empty()) : c.output;
-    checkOutputFolder(output);
+    checkOutputPath(output, {c.scene});
 
     const Json root = geometry::parseJsonFile(c.scene);
     if (!root.is_object() || !root.contains("fields") || !root["fields"].is_object())

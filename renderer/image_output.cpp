@@ -82,10 +82,18 @@ void writePreviewPng(const std::string& path, const Image& image, double exposur
     writeBuffer(path, spec, OIIO::TypeDesc::UINT8, bytes.data());
 }
 
-void checkOutputFolder(const std::string& path) {
+void checkOutputPath(const std::string& path, const std::vector<std::string>& inputs) {
     const std::filesystem::path parent = std::filesystem::absolute(path).parent_path();
     if (!std::filesystem::is_directory(parent))
         throw geometry::InputError(path, "", "the output folder " + parent.string() + " does not exist");
+    std::error_code ec;
+    const auto status = std::filesystem::status(path, ec);
+    if (!std::filesystem::exists(status)) return;
+    if (!std::filesystem::is_regular_file(status))
+        throw geometry::InputError(path, "", "exists and is not a regular file; refusing to replace it");
+    for (const std::string& input : inputs)
+        if (std::filesystem::equivalent(path, input, ec))
+            throw geometry::InputError(path, "", "is also an input (" + input + "); refusing to overwrite it");
 }
 
 std::string previewPathFor(const std::string& exrPath) {

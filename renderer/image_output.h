@@ -18,9 +18,11 @@ void writeImage(const std::string& path, const Image& image, const ImageMetadata
 void writePreviewPng(const std::string& path, const Image& image, double exposure);
 /// The preview's name next to an output: out.exr -> out.png.
 std::string previewPathFor(const std::string& exrPath);
-/// Throws InputError naming `path` when the folder it would be written to
-/// does not exist (checked before any work, so nothing is half done).
-void checkOutputFolder(const std::string& path);
+/// Checks an output path before any work, so nothing is half done: throws
+/// InputError naming `path` when its folder does not exist, when something
+/// that is not a regular file (a folder, a device) has its name, or when it
+/// is one of `inputs` (by file identity, however it is spelt).
+void checkOutputPath(const std::string& path, const std::vector<std::string>& inputs = {});
 /// Reads an image as RGB float (first three channels), with its window in
 /// the full frame; throws std::runtime_error naming the path. `metadata`,
 /// when given, receives the string attributes.

@@ -1,5 +1,6 @@
 #include "renderer/commands/command.h"
 
+#include <cmath>
 #include <cstdio>
 #include <new>
 #include <stdexcept>
@@ -9,6 +10,39 @@
 #include "renderer/version.h"
 
 namespace isotrace {
+
+namespace {
+CLI::Validator finiteValidator(bool positive) {
+    return CLI::Validator(
+        [positive](std::string& text) -> std::string {
+            double x = 0.0;
+            size_t used = 0;
+            try {
+                x = std::stod(text, &used);
+            } catch (const std::exception&) {
+                used = 0;
+            }
+            if (used == 0 || used != text.size() || !std::isfinite(x)) return "expected a finite number, found " + text;
+            if (positive && !(x > 0)) return "expected a number > 0, found " + text;
+            return "";
+        },
+        positive ? "FINITE > 0" : "FINITE");
+}
+}  // namespace
+
+CLI::Validator finitePositive() { return finiteValidator(true); }
+CLI::Validator wholeNumber() {
+    return CLI::Validator(
+        [](std::string& text) -> std::string {
+            const bool digits = !text.empty() && text.size() <= 20 &&
+                                text.find_first_not_of("0123456789") == std::string::npos;
+            if (!digits || (text.size() == 20 && text > "18446744073709551615"))
+                return "expected a whole number from 0 to 2^64 - 1, found " + text;
+            return "";
+        },
+        "UINT64");
+}
+CLI::Validator finiteNumber() { return finiteValidator(false); }
 
 int runReportingErrors(const std::function<int()>& body) {
     try {

@@ -32,6 +32,13 @@ Subcommand addCompareCommand(CLI::App& app);
 Subcommand addFitCommand(CLI::App& app);
 Subcommand addPreviewCommand(CLI::App& app);
 
+/// Option checks that also refuse NaN and infinities (CLI11's
+/// PositiveNumber lets NaN through).
+CLI::Validator finitePositive();
+CLI::Validator finiteNumber();
+/// Digits only: a seed of "-1" would otherwise wrap around to 2^64 - 1.
+CLI::Validator wholeNumber();
+
 /// Runs a command's body and turns what it throws into an exit status and a
 /// message on stderr: geometry::InputError and std::runtime_error (files,
 /// memory, the environment) are bad input; anything else is an internal

@@ -153,6 +153,11 @@ int runCompare(const CompareCommand& c) {
     if (a.channels != b.channels)
         throw InputError(c.test, "", "channels " + joined(a.channels) + " differ from " + c.reference + "'s " +
                                          joined(b.channels));
+    if (!c.diff.empty()) {
+        std::vector<std::string> inputs{c.test, c.reference};
+        if (!c.noise.empty()) inputs.push_back(c.noise);
+        checkOutputPath(c.diff, inputs);
+    }
     if (c.metric == "noise" && c.noise.empty())
         throw InputError("command line", "", "--metric noise needs --noise, a second render of the test image");
     const Image test = load(c.test), reference = load(c.reference);
@@ -297,7 +302,7 @@ Subcommand addCompareCommand(CLI::App& app) {
         ->check(CLI::Range(0.0, 100.0));
     cmd->add_option("--pixel-threshold", c->pixelThreshold,
                     "A pixel differs when |a - b| > threshold * (|b| + 0.05) in some channel")
-        ->check(CLI::PositiveNumber);
+        ->check(finitePositive());
     cmd->add_option("--noise", c->noise, "A second render of TEST with another seed: judge differences against noise");
     cmd->add_option("--diff", c->diff,
                     "Write a difference image: .exr holds |a - b| (FLIP metrics: the FLIP errors), other formats a colour "

@@ -29,7 +29,7 @@ struct FitCommand {
 // Bad input (unreadable or malformed files, singular systems, too many
 // constraints) throws geometry::InputError; nothing is written then.
 int runFit(const FitCommand& c) {
-    checkOutputFolder(c.output);
+    checkOutputPath(c.output, {c.input});
     // The command line becomes a description, so files and keys are read
     // exactly as in scene files.
     const std::string extension = std::filesystem::path(c.input).extension().string();
@@ -80,10 +80,10 @@ Subcommand addFitCommand(CLI::App& app) {
         ->required();
     sub->add_option("--normal-offset", c->normalOffset,
                        "Distance of the normal constraints from the surface (default 0.01 of the bounding-box diagonal)")
-        ->check(CLI::PositiveNumber);
+        ->check(finitePositive());
     sub->add_flag("--hermite", c->hermite, "Exact gradient constraints instead of offset normal constraints");
     sub->add_option("--margin", c->margin, "Initial domain margin, a fraction of the bounding-box diagonal")
-        ->check(CLI::PositiveNumber);
+        ->check(finitePositive());
     sub->add_flag("-q,--quiet", c->quiet, "No summary line");
     return {sub, [c] { return runFit(*c); }};
 }

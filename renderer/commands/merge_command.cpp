@@ -16,7 +16,7 @@ struct MergeCommand {
 };
 
 int runMerge(const MergeCommand& cmd) {
-    checkOutputFolder(cmd.output);
+    checkOutputPath(cmd.output, cmd.tiles);
     std::vector<FilmTile> tiles;
     for (const std::string& path : cmd.tiles) {
         FilmTile tile;

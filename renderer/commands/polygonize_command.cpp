@@ -26,7 +26,7 @@ struct PolygonizeCommand {
 int runPolygonize(const PolygonizeCommand& cmd) {
     if (!isMeshExtension(cmd.output))
         throw geometry::InputError(cmd.output, "", "unknown mesh format (use .ply, .obj or .off)");
-    checkOutputFolder(cmd.output);
+    checkOutputPath(cmd.output, {cmd.scene});
     const geometry::Json root = geometry::parseJsonFile(cmd.scene);
     if (!root.is_object() || !root.contains("fields"))
         throw geometry::InputError(cmd.scene, "/fields", "the scene has no \"fields\"");
@@ -87,7 +87,7 @@ Subcommand addPolygonizeCommand(CLI::App& app) {
     sub->add_option("--resolution", c->resolution, "Cells along the longest side of the bounds (default 128)")
         ->check(CLI::Range(1, std::numeric_limits<int>::max()));
     sub->add_option("--tolerance", c->tolerance, "Largest distance of vertices and face centres to the surface")
-        ->check(CLI::PositiveNumber);
+        ->check(finitePositive());
     sub->add_option("--threads", c->threads, "Worker threads (default: all cores)")->check(CLI::Range(1, 4096));
     sub->add_flag("--report", c->report, "Print counts, topology and accuracy as JSON");
     return {sub, [c] { return runPolygonize(*c); }};

@@ -80,7 +80,8 @@ int runRender(const RenderCommand& cmd) {
     if (cmd.as == "implicit") overrides.fieldMode = SceneOverrides::FieldMode::Implicit;
     const std::string output =
         cmd.output.empty() ? std::filesystem::path(cmd.scene).stem().string() + ".exr" : cmd.output;
-    checkOutputFolder(output);
+    checkOutputPath(output, {cmd.scene});
+    if (!cmd.noPreview) checkOutputPath(previewPathFor(output), {cmd.scene, output});
 
     // Loading builds surface cells and variational models in parallel: it
     // keeps to the same thread count as rendering.
@@ -125,10 +126,10 @@ Subcommand addRenderCommand(CLI::App& app) {
     sub->add_option("-o,--output", c->output, "Output image (default: the scene's name with .exr)");
     sub->add_option("--spp", c->spp, "Samples per pixel (overrides the scene)")->check(CLI::Range(1, 1 << 20));
     sub->add_option("--threads", c->threads, "Worker threads for loading and rendering (default: all cores)")->check(CLI::Range(1, 4096));
-    sub->add_option("--seed", c->seed, "Random seed");
+    sub->add_option("--seed", c->seed, "Random seed (a whole number >= 0)")->check(wholeNumber());
     sub->add_option("--width", c->width, "Image width (overrides the scene)")->check(CLI::Range(1, 1 << 16));
     sub->add_option("--height", c->height, "Image height (overrides the scene)")->check(CLI::Range(1, 1 << 16));
-    sub->add_option("--exposure", c->exposure, "Exposure of the PNG preview, in stops");
+    sub->add_option("--exposure", c->exposure, "Exposure of the PNG preview, in stops")->check(finiteNumber());
     sub->add_option("--as", c->as, "Render every field object as a mesh or as an implicit")
         ->check(CLI::IsMember({"mesh", "implicit"}));
     sub->add_flag("--half", c->half, "Write half-float EXR");

@@ -122,3 +122,15 @@ TEST(CsgPreview, BadInputIsRefusedWithoutWritingAFile) {
     EXPECT_NE(noFolder.output.find("does not exist"), std::string::npos) << noFolder.output;
     EXPECT_EQ(std::distance(std::filesystem::directory_iterator(folder.file("")), {}), 2) << "only the two scenes";
 }
+
+// A union of one operand has no B to show: an error at its operand list,
+// not a read past it (AddressSanitizer found that read).
+TEST(CsgPreview, NodeWithOneOperandIsAnError) {
+    TemporaryFolder folder;
+    const std::string scene = folder.write("one.json", R"({"fields": {"a": {"type": "sphere", "radius": 1},
+      "one": {"type": "union", "of": ["a"]}}})");
+    const auto r = runIsotrace("preview " + scene + " --field one -o " + folder.file("one.png") + " -q");
+    EXPECT_EQ(r.exitCode, 2);
+    EXPECT_NE(r.output.find("/fields/one/of: a CSG node needs two operands or more"), std::string::npos) << r.output;
+    EXPECT_FALSE(std::filesystem::exists(folder.file("one.png")));
+}

@@ -25,6 +25,11 @@ const char* kSmallScene = R"({"camera": {"from": [0, 0, 4], "to": [0, 0, 0], "fo
   "objects": [{"field": "ball", "material": "clay"}],
   "lights": [{"type": "environment", "radiance": [1, 1, 1]}]})";
 
+std::string readFile(const std::string& path) {
+    std::ifstream in(path);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
 size_t filesIn(const std::filesystem::path& folder) {
     size_t n = 0;
     for ([[maybe_unused]] const auto& entry : std::filesystem::directory_iterator(folder)) ++n;
@@ -436,5 +441,45 @@ TEST(CommandLine, FitWritesAFieldScenesLoadAndRefusesBadInput) {
         EXPECT_EQ(r.exitCode, 2) << c.arguments;
         EXPECT_NE(r.output.find(c.message), std::string::npos) << c.arguments << ": " << r.output;
         EXPECT_FALSE(std::filesystem::exists(out)) << c.arguments;
+    }
+}
+
+// An output that is one of the inputs (however it is spelt) or not a
+// regular file is refused before any work: exit 2, the input unchanged.
+TEST(CommandLine, OutputsNeverReplaceInputsOrNonFiles) {
+    TemporaryFolder folder;
+    const std::string scene = folder.write("s.json", kSmallScene);
+    const std::string text = readFile(scene);
+    const std::string dotted = folder.path().string() + "/./s.json";
+    auto refused = [&](const std::string& args, const std::string& what) {
+        const auto r = runIsotrace(args);
+        EXPECT_EQ(r.exitCode, 2) << args;
+        EXPECT_NE(r.output.find(what), std::string::npos) << args << "\n" << r.output;
+    };
+    refused("render " + scene + " -o " + dotted + " -q", "is also an input");
+    EXPECT_EQ(readFile(scene), text);
+    refused("render " + scene + " -o /dev/null -q", "not a regular file");
+    refused("render " + scene + " -o " + folder.path().string() + " -q", "not a regular file");
+    const std::string image = folder.file("a.exr");
+    ASSERT_EQ(runIsotrace("render " + scene + " -o " + image + " -q --no-preview").exitCode, 0);
+    refused("compare " + image + " " + image + " --diff " + folder.path().string() + "/./a.exr", "is also an input");
+    refused("merge " + image + " -o " + image, "is also an input");
+    const std::string tetrahedron = folder.write("tet.off", "OFF\n4 4 0\n1 1 1\n1 -1 -1\n-1 1 -1\n-1 -1 1\n"
+                                                             "3 0 1 2\n3 0 3 1\n3 0 2 3\n3 1 3 2\n");
+    const std::string mesh = readFile(tetrahedron);
+    refused("fit " + tetrahedron + " -o " + folder.path().string() + "/../" + folder.path().filename().string() + "/tet.off -q",
+            "is also an input");
+    EXPECT_EQ(readFile(tetrahedron), mesh);
+    EXPECT_EQ(readFile(scene), text);
+}
+
+TEST(CommandLine, NonFiniteAndNegativeNumbersAreRefused) {
+    for (const char* args : {"render x.json --exposure nan", "render x.json --exposure inf", "render x.json --seed -1",
+                             "render x.json --seed 18446744073709551616", "fit x.off -o y.json --margin nan",
+                             "fit x.off -o y.json --normal-offset inf", "polygonize x.json --field f -o m.ply --tolerance nan",
+                             "compare a.exr b.exr --pixel-threshold nan"}) {
+        const auto r = runIsotrace(args);
+        EXPECT_EQ(r.exitCode, 2) << args;
+        EXPECT_NE(r.output.find("found"), std::string::npos) << args << "\n" << r.output;
     }
 }
