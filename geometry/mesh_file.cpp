@@ -2,16 +2,122 @@
 
 #include <assimp/Importer.hpp>
 #include <assimp/scene.h>
+#include <cctype>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 
 #include "geometry/input_error.h"
 
 namespace isotrace::geometry {
 
+namespace {
+
+std::string lowercaseExtension(const std::string& path) {
+    std::string e = std::filesystem::path(path).extension().string();
+    for (char& c : e) c = char(std::tolower(static_cast<unsigned char>(c)));
+    return e;
+}
+
+// The next line that holds something, without its comment; false at the end.
+bool contentLine(std::istream& in, std::string& line, long& number) {
+    while (std::getline(in, line)) {
+        ++number;
+        if (const size_t hash = line.find('#'); hash != std::string::npos) line.erase(hash);
+        if (line.find_first_not_of(" \t\r") != std::string::npos) return true;
+    }
+    return false;
+}
+
+// Assimp's OFF reader clamps face indices into range and trusts the
+// header's counts, so an OFF file is checked first: counts the file can
+// hold, every vertex line present, every index a vertex. Errors name the
+// line.
+void checkOffFile(const std::string& path, uintmax_t bytes) {
+    std::ifstream in(path);
+    std::string line;
+    long number = 0;
+    if (!contentLine(in, line, number)) throw InputError(path, "", "empty OFF file");
+    std::istringstream header(line);
+    std::string magic;
+    header >> magic;
+    if (magic != "OFF") throw InputError(path, "line " + std::to_string(number), "expected \"OFF\"");
+    long long vertices = -1, faces = -1;
+    if (!(header >> vertices)) {  // the counts on a line of their own
+        if (!contentLine(in, line, number)) throw InputError(path, "", "the OFF file ends before its counts");
+        header = std::istringstream(line);
+        header >> vertices;
+    }
+    const std::string countsAt = "line " + std::to_string(number);
+    if (!(header >> faces) || vertices < 0 || faces < 0)
+        throw InputError(path, countsAt, "expected the vertex and face counts (two whole numbers >= 0)");
+    // A vertex takes at least 6 bytes ("0 0 0\n"), a face at least 8.
+    if (double(vertices) * 6 + double(faces) * 8 > double(bytes))
+        throw InputError(path, countsAt,
+                         "the header claims " + std::to_string(vertices) + " vertices and " + std::to_string(faces) +
+                             " faces, more than the file's " + std::to_string(bytes) + " bytes can hold");
+    for (long long v = 0; v < vertices; ++v) {
+        if (!contentLine(in, line, number))
+            throw InputError(path, "", "the file ends after " + std::to_string(v) + " of its " + std::to_string(vertices) +
+                                           " vertices");
+        std::istringstream values(line);
+        double x, y, z;
+        if (!(values >> x >> y >> z))
+            throw InputError(path, "line " + std::to_string(number), "expected a vertex: three numbers");
+    }
+    for (long long f = 0; f < faces; ++f) {
+        if (!contentLine(in, line, number))
+            throw InputError(path, "", "the file ends after " + std::to_string(f) + " of its " + std::to_string(faces) +
+                                           " faces");
+        const std::string at = "line " + std::to_string(number);
+        std::istringstream values(line);
+        long long n = 0;
+        if (!(values >> n) || n < 3 || n > vertices)
+            throw InputError(path, at, "expected a face: a corner count of 3 or more, then its vertex indices");
+        for (long long k = 0; k < n; ++k) {
+            long long index = -1;
+            if (!(values >> index)) throw InputError(path, at, "face " + std::to_string(f) + " lists fewer than " + std::to_string(n) + " vertices");
+            if (index < 0 || index >= vertices)
+                throw InputError(path, at, "face " + std::to_string(f) + " refers to vertex " + std::to_string(index) +
+                                               ", but there are " + std::to_string(vertices));
+        }
+    }
+}
+
+// Assimp allocates what a PLY header claims before it reads: the counts
+// must fit in the file (a vertex takes at least 3 bytes, a face 1).
+void checkPlyHeader(const std::string& path, uintmax_t bytes) {
+    std::ifstream in(path, std::ios::binary);
+    std::string line;
+    long number = 0;
+    while (std::getline(in, line) && number < 1000) {
+        ++number;
+        std::istringstream words(line);
+        std::string word, name;
+        long long count = 0;
+        words >> word;
+        if (word == "end_header") return;
+        if (word != "element" || !(words >> name >> count)) continue;
+        const double least = name == "vertex" ? 3.0 : 1.0;
+        if (count < 0 || double(count) * least > double(bytes))
+            throw InputError(path, "line " + std::to_string(number),
+                             "the header claims " + std::to_string(count) + " " + name + " elements, more than the file's " +
+                                 std::to_string(bytes) + " bytes can hold");
+    }
+}
+
+}  // namespace
+
 IndexedMesh readMeshFile(const std::string& path) {
     std::error_code ec;
     if (!std::filesystem::is_regular_file(path, ec)) throw InputError(path, "", "mesh file not found");
+    const std::string extension = lowercaseExtension(path);
+    if (extension != ".obj" && extension != ".off" && extension != ".ply")
+        throw InputError(path, "", "unknown mesh format \"" + extension + "\" (isotrace reads .obj, .off and .ply)");
+    const uintmax_t bytes = std::filesystem::file_size(path, ec);
+    if (extension == ".off") checkOffFile(path, bytes);
+    if (extension == ".ply") checkPlyHeader(path, bytes);
     Assimp::Importer importer;
     // No post-processing: Assimp's steps assert (abort) on some corrupt
     // files, and degenerate triangles are for the caller to report, not hide.

@@ -1,0 +1,68 @@
+#include "geometry/mesh_file.h"
+
+#include <gtest/gtest.h>
+
+#include "geometry/input_error.h"
+#include "support/temporary_files.h"
+
+using namespace isotrace::geometry;
+using isotrace::testing::TemporaryFolder;
+
+namespace {
+
+const char* kTetrahedron = "OFF\n4 4 0\n1 1 1\n1 -1 -1\n-1 1 -1\n-1 -1 1\n3 0 1 2\n3 0 3 1\n3 0 2 3\n3 1 3 2\n";
+
+std::string errorOf(const std::string& path) {
+    try {
+        readMeshFile(path);
+    } catch (const InputError& e) {
+        return e.what();
+    }
+    return "";
+}
+
+}  // namespace
+
+TEST(MeshFile, ReadsAnOffFile) {
+    TemporaryFolder folder;
+    const IndexedMesh m = readMeshFile(folder.write("tet.off", kTetrahedron));
+    EXPECT_EQ(m.vertices.size(), 4u);
+    ASSERT_EQ(m.triangles.size(), 4u);
+    EXPECT_EQ(m.triangles[1], (std::array<uint32_t, 3>{0, 3, 1}));
+    EXPECT_EQ(m.vertices[3], Vec3(-1, -1, 1));
+}
+
+// Assimp clamps OFF indices into range; isotrace checks them first and
+// names the line.
+TEST(MeshFile, OffIndicesOutOfRangeNegativeOrMissingAreErrors) {
+    TemporaryFolder folder;
+    const std::string base = "OFF\n4 1 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n";
+    EXPECT_NE(errorOf(folder.write("high.off", base + "3 0 2 99\n")).find("line 7: face 0 refers to vertex 99, but there are 4"),
+              std::string::npos);
+    EXPECT_NE(errorOf(folder.write("negative.off", base + "3 0 -1 2\n")).find("refers to vertex -1"), std::string::npos);
+    EXPECT_NE(errorOf(folder.write("short.off", base + "3 0 1\n")).find("lists fewer than 3"), std::string::npos);
+    EXPECT_NE(errorOf(folder.write("truncated.off", "OFF\n4 1 0\n0.0000 0.0000 0.0000\n1.0000 0.0000 0.0000\n")).find("ends after 2 of its 4 vertices"),
+              std::string::npos);
+    EXPECT_NE(errorOf(folder.write("nofaces.off", base)).find("ends after 0 of its 1 faces"), std::string::npos);
+    EXPECT_NE(errorOf(folder.write("magic.off", "OF\n")).find("expected \"OFF\""), std::string::npos);
+}
+
+// A 100-byte file whose header claims a billion vertices fails at once,
+// before anything is allocated for them.
+TEST(MeshFile, CountsMustFitInTheFile) {
+    TemporaryFolder folder;
+    EXPECT_NE(errorOf(folder.write("huge.off", "OFF\n1000000000 1 0\n0 0 0\n")).find("more than the file's"),
+              std::string::npos);
+    const std::string ply = "ply\nformat binary_little_endian 1.0\nelement vertex 1000000000\nproperty float x\n"
+                            "property float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\n"
+                            "end_header\n";
+    EXPECT_NE(errorOf(folder.write("huge.ply", ply)).find("line 3: the header claims 1000000000 vertex elements"),
+              std::string::npos);
+}
+
+TEST(MeshFile, OnlyTheDocumentedFormats) {
+    TemporaryFolder folder;
+    EXPECT_NE(errorOf(folder.write("part.stl", "solid x\nendsolid x\n")).find("unknown mesh format \".stl\""),
+              std::string::npos);
+    EXPECT_NE(errorOf(folder.file("missing.off")).find("mesh file not found"), std::string::npos);
+}
