@@ -71,22 +71,8 @@ LightSample ImplicitEmitterLight::sample(const LightSampleContext& context, cons
     // object's space (an affine map keeps t).
     RTCIntersectContext rtcContext;
     rtcInitIntersectContext(&rtcContext);
-    RTCRayHit rh;
-    const Vec3 o = (objectFromWorld_ * p.homogeneous()).head<3>();
-    const Vec3 dir = objectFromWorld_.topLeftCorner<3, 3>() * s.direction;
-    rh.ray.org_x = float(o.x());
-    rh.ray.org_y = float(o.y());
-    rh.ray.org_z = float(o.z());
-    rh.ray.dir_x = float(dir.x());
-    rh.ray.dir_y = float(dir.y());
-    rh.ray.dir_z = float(dir.z());
-    rh.ray.tnear = 0.0f;
-    rh.ray.tfar = std::numeric_limits<float>::infinity();
-    rh.ray.mask = 0xFFFFFFFFu;
-    rh.ray.flags = 0;
-    rh.ray.time = 0.0f;
-    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-    rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    RTCRayHit rh = embreeRayHit((objectFromWorld_ * p.homogeneous()).head<3>(),
+                                objectFromWorld_.topLeftCorner<3, 3>() * s.direction, INFINITY);
     rtcIntersect1(shape_, &rtcContext, &rh);
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return s;  // a direction of the cone that misses: no light
     s.distance = rh.ray.tfar;

@@ -79,16 +79,14 @@ geometry::Box3 Scene::bounds() const {
     return geometry::Box3(Vec3(b.lower_x, b.lower_y, b.lower_z), Vec3(b.upper_x, b.upper_y, b.upper_z));
 }
 
-bool Scene::intersect(const Ray& ray, double tMax, SurfaceHit& hit) const {
-    RTCIntersectContext context;
-    rtcInitIntersectContext(&context);
+RTCRayHit embreeRayHit(const Vec3& origin, const Vec3& direction, double tMax) {
     RTCRayHit rh;
-    rh.ray.org_x = float(ray.origin.x());
-    rh.ray.org_y = float(ray.origin.y());
-    rh.ray.org_z = float(ray.origin.z());
-    rh.ray.dir_x = float(ray.direction.x());
-    rh.ray.dir_y = float(ray.direction.y());
-    rh.ray.dir_z = float(ray.direction.z());
+    rh.ray.org_x = float(origin.x());
+    rh.ray.org_y = float(origin.y());
+    rh.ray.org_z = float(origin.z());
+    rh.ray.dir_x = float(direction.x());
+    rh.ray.dir_y = float(direction.y());
+    rh.ray.dir_z = float(direction.z());
     rh.ray.tnear = 0.0f;
     rh.ray.tfar = std::isfinite(tMax) ? float(tMax) : std::numeric_limits<float>::infinity();
     rh.ray.mask = 0xFFFFFFFFu;
@@ -96,6 +94,13 @@ bool Scene::intersect(const Ray& ray, double tMax, SurfaceHit& hit) const {
     rh.ray.time = 0.0f;
     rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
     rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    return rh;
+}
+
+bool Scene::intersect(const Ray& ray, double tMax, SurfaceHit& hit) const {
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    RTCRayHit rh = embreeRayHit(ray.origin, ray.direction, tMax);
     rtcIntersect1(top_, &context, &rh);
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
 

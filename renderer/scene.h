@@ -45,6 +45,10 @@ struct SurfaceHit {
     unsigned primitive = 0;
 };
 
+/// An Embree ray (and empty hit) from origin along direction up to tMax
+/// (infinite allowed), single precision as Embree wants it.
+RTCRayHit embreeRayHit(const Vec3& origin, const Vec3& direction, double tMax);
+
 class Scene {
 public:
     Scene();

@@ -9,6 +9,7 @@
 #include "renderer/scene_builder.h"
 #include "renderer/scene_loader.h"
 #include "support/compile_field.h"
+#include "support/floor_scene.h"
 #include "support/scene_files.h"
 
 using namespace isotrace;
@@ -18,36 +19,17 @@ using isotrace::testing::TemporaryFolder;
 
 namespace {
 
-// A floor at y = -1 (albedo 0.5) under an emissive implicit `field`, lit by
-// nothing else; direct light only.
+// An emissive implicit `field` (placed by `placement`) over the floor y = -1.
 std::unique_ptr<Scene> floorUnder(const std::string& field, const char* integrator, double radiance,
                                   const Mat4& placement = Mat4::Identity()) {
-    SceneBuilder builder;
-    builder.setIntegrator(geometry::Json{{"type", integrator}, {"max_depth", 1}});
-    SceneObject floor;
-    floor.material = builder.addMaterial("grey", {{"type", "diffuse"}, {"albedo", {0.5, 0.5, 0.5}}});
-    TriangleMesh mesh;
-    mesh.positions = {-60, -1, -60, 60, -1, -60, 60, -1, 60, -60, -1, 60};
-    mesh.indices = {0, 2, 1, 0, 3, 2};
-    floor.shape = builder.addMesh(std::move(mesh));
-    builder.addObject(floor);
-    SceneObject lamp;
-    lamp.kind = SceneObject::Kind::Implicit;
-    lamp.material = builder.addMaterial("glow", {{"type", "emissive"}, {"radiance", {radiance, radiance, radiance}}});
-    lamp.shape = builder.addSurface(std::make_unique<geometry::ImplicitSurface>(compileField(field)));
-    lamp.worldFromObject = placement;
-    builder.addObject(lamp);
-    return builder.build();
-}
-
-double floorRadianceBelow(const Scene& scene, double x, int samples) {
-    Sampler sampler(SamplerType::Sobol, 23);
-    double sum = 0.0;
-    for (int s = 0; s < samples; ++s) {
-        sampler.startPixelSample(int(x * 100), 1, s);
-        sum += scene.integrator->radiance(scene, Ray{Vec3(x, -0.5, 0), Vec3(0, -1, 0)}, sampler)[1];
-    }
-    return sum / samples;
+    return isotrace::testing::floorScene(integrator, -1.0, [&](SceneBuilder& builder) {
+        SceneObject lamp;
+        lamp.kind = SceneObject::Kind::Implicit;
+        lamp.material = builder.addMaterial("glow", {{"type", "emissive"}, {"radiance", {radiance, radiance, radiance}}});
+        lamp.shape = builder.addSurface(std::make_unique<geometry::ImplicitSurface>(compileField(field)));
+        lamp.worldFromObject = placement;
+        builder.addObject(lamp);
+    });
 }
 
 }  // namespace
@@ -66,7 +48,8 @@ TEST(ImplicitEmitterLight, SphereIrradianceIsPiLTimesRadiusOverDistanceSquared) 
         // The sphere fills a third of the cone of its bounds' sphere, so a
         // light sample's estimate is 0 or 3x the mean; 16,384 stratified
         // samples keep the error well under 1%.
-        EXPECT_NEAR(floorRadianceBelow(*scene, 0.0, 16384), expected, 0.01 * expected) << integrator;
+        EXPECT_NEAR(isotrace::testing::radianceLookingDown(*scene, Vec3(0, -0.5, 0), 16384, 23), expected, 0.01 * expected)
+            << integrator;
     }
 }
 

@@ -9,9 +9,12 @@
 
 #include "renderer/render.h"
 #include "renderer/scene_builder.h"
+#include "support/floor_scene.h"
 #include "support/scene_files.h"
 
 using namespace isotrace;
+using isotrace::testing::floorScene;
+using isotrace::testing::radianceLookingDown;
 using isotrace::testing::loadSceneText;
 using isotrace::testing::TemporaryFolder;
 
@@ -200,32 +203,6 @@ double polygonIrradiance(const Vec3& x, const Vec3& n, const std::vector<Vec3>& 
     return 0.5 * radiance * std::abs(sum);
 }
 
-// Radiance of the floor y = -1 (albedo 0.5) straight below (x, 0, 0),
-// direct light only, averaged over `samples` paths.
-double floorRadianceBelow(const Scene& scene, double x, int samples) {
-    Sampler sampler(SamplerType::Independent, 17);
-    double sum = 0.0;
-    for (int s = 0; s < samples; ++s) {
-        sampler.startPixelSample(int(x * 100), 0, s);
-        sum += scene.integrator->radiance(scene, Ray{Vec3(x, 0, 0), Vec3(0, -1, 0)}, sampler)[1];
-    }
-    return sum / samples;
-}
-
-std::unique_ptr<Scene> floorUnderLight(const char* integrator, const geometry::Json& light) {
-    SceneBuilder builder;
-    builder.setIntegrator(geometry::Json{{"type", integrator}, {"max_depth", 1}});
-    SceneObject floor;
-    floor.material = builder.addMaterial("grey", {{"type", "diffuse"}, {"albedo", {0.5, 0.5, 0.5}}});
-    TriangleMesh mesh;
-    mesh.positions = {-60, -1, -60, 60, -1, -60, 60, -1, 60, -60, -1, 60};
-    mesh.indices = {0, 2, 1, 0, 3, 2};
-    floor.shape = builder.addMesh(std::move(mesh));
-    builder.addObject(floor);
-    builder.addLight(light);
-    return builder.build();
-}
-
 }  // namespace
 
 // A 1 m^2 quad light and a disk of the same area at y = 3 face down onto a
@@ -234,7 +211,8 @@ std::unique_ptr<Scene> floorUnderLight(const char* integrator, const geometry::J
 // short of the light only when measured from the unshifted point reached
 // past the light's plane and hit the light itself, so the floor went black.
 // The closed form is Lambert's polygon formula (the disk is its 64-gon);
-// NEE by area has little noise here, and 1,024 paths keep it under 1%.
+// NEE by area has little noise here, and 1,024 stratified paths keep it
+// well under 1%.
 TEST(DirectLighting, GrazingAreaLightsMatchThePolygonFormula) {
     const double radius = 1.0 / std::sqrt(std::numbers::pi);
     std::vector<Vec3> disk;
@@ -250,11 +228,11 @@ TEST(DirectLighting, GrazingAreaLightsMatchThePolygonFormula) {
                                       {"radius", radius}, {"radiance", {25, 25, 25}}};
     for (const char* integrator : {"path", "whitted"}) {
         for (const auto& [light, polygon] : {std::pair{quadLight, quad}, std::pair{diskLight, disk}}) {
-            const auto scene = floorUnderLight(integrator, light);
+            const auto scene = floorScene(integrator, -1.0, [&](SceneBuilder& b) { b.addLight(light); });
             for (double x : {4.0, 8.0, 16.0, 22.7, 30.0}) {
                 const double angle = std::atan2(x, 4.0) * 180 / std::numbers::pi;
                 const double expected = 0.5 / std::numbers::pi * polygonIrradiance(Vec3(x, -1, 0), Vec3(0, 1, 0), polygon, 25);
-                EXPECT_NEAR(floorRadianceBelow(*scene, x, 1024), expected, 0.01 * expected)
+                EXPECT_NEAR(radianceLookingDown(*scene, Vec3(x, 0, 0), 1024, 17), expected, 0.01 * expected)
                     << integrator << " " << light["type"] << " at " << x << " m, " << angle << " degrees off the light's normal";
             }
         }

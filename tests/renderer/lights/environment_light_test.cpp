@@ -7,6 +7,7 @@
 #include "renderer/image_output.h"
 #include "renderer/scene_builder.h"
 #include "support/chi_square.h"
+#include "support/floor_scene.h"
 #include "support/temporary_files.h"
 
 using namespace isotrace;
@@ -31,29 +32,13 @@ std::string writeMap(const TemporaryFolder& folder, const std::string& name, int
     return path;
 }
 
-// A floor at y = 0 (albedo 0.5) and the environment; direct light only.
+// A floor at y = 0 under the environment.
 std::unique_ptr<Scene> floorUnder(const geometry::Json& environment) {
-    SceneBuilder builder;
-    builder.setIntegrator(geometry::Json{{"type", "path"}, {"max_depth", 1}});
-    SceneObject floor;
-    floor.material = builder.addMaterial("grey", {{"type", "diffuse"}, {"albedo", {0.5, 0.5, 0.5}}});
-    TriangleMesh mesh;
-    mesh.positions = {-1, 0, -1, 1, 0, -1, 1, 0, 1, -1, 0, 1};
-    mesh.indices = {0, 2, 1, 0, 3, 2};
-    floor.shape = builder.addMesh(std::move(mesh));
-    builder.addObject(floor);
-    builder.addLight(environment);
-    return builder.build();
+    return isotrace::testing::floorScene("path", 0.0, [&](SceneBuilder& b) { b.addLight(environment); });
 }
 
 double floorRadiance(const Scene& scene, int samples) {
-    Sampler sampler(SamplerType::Sobol, 9);
-    double sum = 0.0;
-    for (int s = 0; s < samples; ++s) {
-        sampler.startPixelSample(0, 0, s);
-        sum += scene.integrator->radiance(scene, Ray{Vec3(0, 1, 0), Vec3(0, -1, 0)}, sampler)[1];
-    }
-    return sum / samples;
+    return isotrace::testing::radianceLookingDown(scene, Vec3(0, 1, 0), samples, 9);
 }
 
 }  // namespace
