@@ -21,6 +21,10 @@ class Compiler;
 using FieldFactory = std::function<uint32_t(Compiler&, JsonObjectReader&, const LeafPlacement&)>;
 const std::map<std::string, FieldFactory>& registry();
 
+/// The deepest a field graph may nest (each level a frame of the
+/// recursive compiler; 1,000 use well under a megabyte of stack).
+constexpr int kMaxFieldDepth = 1000;
+
 class Compiler final : public FieldReferences {
 public:
     Compiler(const Json& library, std::string libraryPointer, std::string file, const FieldLibraryOptions& options)
@@ -54,6 +58,17 @@ public:
 
     uint32_t node(const Json& j, const std::string& pointer, const LeafPlacement& placement) {
         if (j.is_string()) return reference(j.get<std::string>(), pointer, placement);
+        // Compiling recurses through operands and names: bounded, so a deep
+        // graph is an error at its place rather than the end of the stack.
+        struct Depth {
+            int& depth;
+            explicit Depth(int& d) : depth(++d) {}
+            ~Depth() { --depth; }
+        } depth(depth_);
+        if (depth_ > kMaxFieldDepth)
+            throw InputError(file_, pointer,
+                             "the field graph nests deeper than " + std::to_string(kMaxFieldDepth) +
+                                 " levels of operands and names here; flatten it (one node can take many operands)");
         if (!j.is_object())
             throw InputError(file_, pointer, "expected a field name or a field description object");
         JsonObjectReader reader(j, pointer, file_);
@@ -159,6 +174,7 @@ private:
     std::string file_;
     FieldLibraryOptions options_;
     std::vector<std::string> stack_;
+    int depth_ = 0;
 };
 
 // ---- primitives -----------------------------------------------------------

@@ -61,7 +61,40 @@ std::string lineAndColumn(const std::string& text, size_t offset) {
 }
 }  // namespace
 
+namespace {
+
+// nlohmann's parser and destructor recurse once per nesting level, so text
+// nested deeper than this is refused before parsing (a CSG tree 100,000
+// levels deep would otherwise end the stack). Field graphs stop at 1,000
+// levels of operands anyway, two JSON levels each.
+constexpr int kMaxJsonDepth = 4000;
+
+void checkNesting(const std::string& text, const std::string& sourceName) {
+    int depth = 0;
+    bool inString = false, escaped = false;
+    for (size_t i = 0; i < text.size(); ++i) {
+        const char c = text[i];
+        if (inString) {
+            if (escaped) escaped = false;
+            else if (c == '\\') escaped = true;
+            else if (c == '"') inString = false;
+            continue;
+        }
+        if (c == '"') inString = true;
+        else if (c == '[' || c == '{') {
+            if (++depth > kMaxJsonDepth)
+                throw InputError(sourceName, lineAndColumn(text, i),
+                                 "JSON nested deeper than " + std::to_string(kMaxJsonDepth) + " levels");
+        } else if (c == ']' || c == '}') {
+            --depth;
+        }
+    }
+}
+
+}  // namespace
+
 Json parseJsonText(const std::string& text, const std::string& sourceName) {
+    checkNesting(text, sourceName);
     try {
         return Json::parse(text);
     } catch (const Json::parse_error& e) {

@@ -99,3 +99,37 @@ TEST(FieldParser, UniformScaleKeepsDistances) {
     const FieldProgram f = library.compile("s");
     EXPECT_NEAR(f.value(Vec3(3, 0, 0)), 1.0, 1e-12);
 }
+
+namespace {
+std::string nested(int levels) {
+    std::string text;
+    for (int i = 0; i < levels; ++i) text += R"({"type": "union", "of": [)";
+    text += R"({"type": "sphere", "radius": 1})";
+    for (int i = 0; i < levels; ++i) text += "]}";
+    return text;
+}
+}  // namespace
+
+// The compiler recurses per level of operands and names: 900 levels
+// compile, deeper graphs (inline or through a chain of 5,000 names) are an
+// error at the JSON path where the limit is crossed, not a stack overflow.
+TEST(FieldParser, DeepFieldGraphsAreErrorsAtTheirPlace) {
+    EXPECT_NO_THROW(FieldLibrary(Json::parse(R"({"deep": )" + nested(900) + "}"), "/fields", "s.json").compile("deep"));
+    try {
+        FieldLibrary(Json::parse(R"({"deep": )" + nested(1500) + "}"), "/fields", "s.json").compile("deep");
+        FAIL() << "1,500 levels compiled";
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("nests deeper than 1000 levels"), std::string::npos);
+    }
+    Json chain = {{"f0", {{"type", "sphere"}, {"radius", 1}}}};
+    for (int i = 1; i <= 5000; ++i)
+        chain["f" + std::to_string(i)] = {{"type", "offset"}, {"distance", 0.001}, {"of", "f" + std::to_string(i - 1)}};
+    try {
+        FieldLibrary(chain, "/fields", "s.json").compile("f5000");
+        FAIL() << "a chain of 5,000 names compiled";
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("s.json: /fields/f4000: the field graph nests deeper than 1000"),
+                  std::string::npos)
+            << e.what();
+    }
+}
