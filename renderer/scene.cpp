@@ -79,6 +79,15 @@ geometry::Box3 Scene::bounds() const {
     return geometry::Box3(Vec3(b.lower_x, b.lower_y, b.lower_z), Vec3(b.upper_x, b.upper_y, b.upper_z));
 }
 
+namespace {
+// What Embree accepts (its ray.valid()): finite, origin within 1.8e18. A
+// ray it would abort on is treated as leaving the scene.
+bool representable(const Vec3& origin, const Vec3& direction) {
+    return origin.allFinite() && direction.allFinite() && origin.cwiseAbs().maxCoeff() < 1e18 &&
+           direction.cwiseAbs().maxCoeff() < 1e18;
+}
+}  // namespace
+
 RTCRayHit embreeRayHit(const Vec3& origin, const Vec3& direction, double tMax) {
     RTCRayHit rh;
     rh.ray.org_x = float(origin.x());
@@ -100,6 +109,7 @@ RTCRayHit embreeRayHit(const Vec3& origin, const Vec3& direction, double tMax) {
 bool Scene::intersect(const Ray& ray, double tMax, SurfaceHit& hit) const {
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
+    if (!representable(ray.origin, ray.direction)) return false;
     RTCRayHit rh = embreeRayHit(ray.origin, ray.direction, tMax);
     rtcIntersect1(top_, &context, &rh);
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
@@ -129,6 +139,7 @@ bool Scene::intersect(const Ray& ray, double tMax, SurfaceHit& hit) const {
 }
 
 bool Scene::occluded(const Vec3& origin, const Vec3& direction, double tMax) const {
+    if (!representable(origin, direction) || std::isnan(tMax)) return false;
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
     RTCRay r;

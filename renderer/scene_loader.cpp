@@ -25,6 +25,17 @@ using geometry::jsonPointerAppend;
 namespace {
 
 constexpr int kMaxImageSide = 1 << 16;
+// Rays are single precision in Embree, which refuses origins past 1.8e18;
+// far before that a float coordinate has no precision left. Positions and
+// transforms stay within these bounds so every ray can be represented.
+constexpr double kMaxCoordinate = 1e15;
+constexpr double kMaxTransformEntry = 1e9;
+constexpr double kMaxFilterRadius = 1000.0;  // pixels
+
+void checkRepresentable(JsonObjectReader& r, const std::string& key, const Vec3& v) {
+    if (!(v.cwiseAbs().maxCoeff() <= kMaxCoordinate))
+        r.fail(key, "coordinates beyond 1e15 cannot be represented by single-precision rays");
+}
 constexpr int kMaxSamplesPerPixel = 1 << 20;
 
 class SceneLoader {
@@ -70,12 +81,18 @@ private:
         cam.from = c.vec3("from", cam.from);
         cam.to = c.vec3("to", cam.to);
         cam.up = c.vec3("up", cam.up);
+        checkRepresentable(c, "from", cam.from);
+        checkRepresentable(c, "to", cam.to);
+        checkRepresentable(c, "up", cam.up);
         cam.verticalFovDegrees = c.number("fov", cam.verticalFovDegrees);
         if (!(cam.verticalFovDegrees > 0 && cam.verticalFovDegrees < 180)) c.fail("fov", "must be between 0 and 180 degrees");
         cam.aperture = c.number("aperture", 0.0);
         if (cam.aperture < 0) c.fail("aperture", "must not be negative");
+        if (cam.aperture > kMaxCoordinate) c.fail("aperture", "beyond 1e15 cannot be represented by single-precision rays");
         cam.focusDistance = c.number("focus_distance", 0.0);
         if (cam.focusDistance < 0) c.fail("focus_distance", "must not be negative");
+        if (cam.focusDistance > kMaxCoordinate)
+            c.fail("focus_distance", "beyond 1e15 cannot be represented by single-precision rays");
         if (!((cam.to - cam.from).norm() > 0)) c.fail("to", "must differ from \"from\"");
         if (cam.focusDistance == 0) cam.focusDistance = (cam.to - cam.from).norm();
         if (!((cam.to - cam.from).normalized().cross(cam.up).norm() > 1e-9)) c.fail("up", "must not be parallel to the view direction");
@@ -95,7 +112,9 @@ private:
             const std::string type = filter.choice("type", {"box", "gaussian"}, "");
             film.filter.type = type == "box" ? FilterType::Box : FilterType::Gaussian;
             film.filter.radius = filter.positiveNumber("radius", type == "box" ? 0.5 : 1.5);
+            if (film.filter.radius > kMaxFilterRadius) filter.fail("radius", "must be at most 1000 pixels");
             if (film.filter.type == FilterType::Gaussian) film.filter.sigma = filter.positiveNumber("sigma", 0.5);
+            if (film.filter.sigma > kMaxFilterRadius) filter.fail("sigma", "must be at most 1000 pixels");
             filter.finish();
         }
         f.finish();
@@ -177,6 +196,11 @@ private:
         if (r.has("transform")) {
             JsonObjectReader t = r.object("transform");
             o.worldFromObject = readTransform(t);
+            const double inverse = o.worldFromObject.inverse().topRows<3>().cwiseAbs().maxCoeff();
+            if (!(o.worldFromObject.topRows<3>().cwiseAbs().maxCoeff() <= kMaxTransformEntry) ||
+                !(inverse <= kMaxTransformEntry))
+                r.fail("transform", "scales or translations beyond 1e9 (or their inverses) cannot be represented by "
+                                    "single-precision rays");
         }
 
         const bool hasField = r.has("field"), hasMesh = r.has("mesh"), hasInline = r.has("vertices");

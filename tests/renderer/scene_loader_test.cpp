@@ -181,3 +181,29 @@ TEST(SceneLoader, BadMeshSettingsOfFieldObjects) {
         "objects": [{"field": "floor", "material": "m", "as": "mesh"}]})";
     expectError(sceneError(folder, unbounded), "/objects/0", "unbounded");
 }
+
+// Embree aborts on rays it cannot represent (origins past 1.8e18, non-finite
+// values); such cameras, filters and transforms are errors at their key.
+TEST(SceneLoader, UnrepresentableRaysAreRefusedAtTheirKey) {
+    TemporaryFolder folder;
+    auto withCamera = [](const std::string& camera) {
+        std::string s = scene();
+        const std::string original = R"({"from": [0, 0, 5], "to": [0, 0, 0], "fov": 40})";
+        s.replace(s.find(original), original.size(), camera);
+        return s;
+    };
+    expectError(sceneError(folder, withCamera(R"({"from": [0, 0, 9.2e18], "to": [0, 0, 0]})")), "/camera/from",
+                "single-precision rays");
+    expectError(sceneError(folder, withCamera(R"({"from": [0, 0, 5], "to": [0, 0, 0], "up": [0, 1e300, 0]})")),
+                "/camera/up", "single-precision rays");
+    expectError(sceneError(folder, withCamera(R"({"from": [0, 0, 5], "to": [0, 0, 0], "aperture": 1e300})")),
+                "/camera/aperture", "single-precision rays");
+    expectError(sceneError(folder, scene(R"({"width": 8, "height": 8, "spp": 1, "filter": {"type": "box", "radius": 1e308}})")),
+                "/film/filter/radius", "at most 1000 pixels");
+    expectError(sceneError(folder, scene(R"({"width": 8, "height": 8, "spp": 1})",
+                                         R"([{"field": "ball", "material": "clay", "transform": {"scale": 1e12}}])")),
+                "/objects/0/transform", "single-precision rays");
+    expectError(sceneError(folder, scene(R"({"width": 8, "height": 8, "spp": 1})",
+                                         R"([{"field": "ball", "material": "clay", "transform": {"scale": [1e-10, 1e5, 1e5]}}])")),
+                "/objects/0/transform", "single-precision rays");
+}

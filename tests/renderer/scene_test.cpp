@@ -76,3 +76,14 @@ TEST(Scene, ImplicitNormalsAreOutwardUnitGradientsUnderTransforms) {
     EXPECT_NEAR(hit.geometricNormal.norm(), 1.0, 1e-9);
     EXPECT_GT(hit.geometricNormal.z(), 0.5);
 }
+
+// A ray Embree would abort on (non-finite, or too far out) leaves the scene.
+TEST(Scene, UnrepresentableRaysMissInsteadOfAborting) {
+    TemporaryFolder folder;
+    auto scene = loadSceneText(folder, withField("ball"));
+    SurfaceHit hit;
+    EXPECT_FALSE(scene->intersect({Vec3(0, 0, 5), Vec3(0, 0, NAN)}, INFINITY, hit));
+    EXPECT_FALSE(scene->intersect({Vec3(0, 0, 9e18), Vec3(0, 0, -1)}, INFINITY, hit));
+    EXPECT_FALSE(scene->occluded(Vec3(0, 0, 5), Vec3(INFINITY, 0, 0), 1.0));
+    EXPECT_TRUE(scene->intersect({Vec3(0, 0, 5), Vec3(0, 0, -1)}, INFINITY, hit));
+}
