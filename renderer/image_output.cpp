@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include "geometry/input_error.h"
+#include "renderer/partial_files.h"
 
 namespace isotrace {
 
@@ -22,6 +23,7 @@ std::string temporaryPathFor(const std::string& path) {
 
 void writeBuffer(const std::string& path, const OIIO::ImageSpec& spec, OIIO::TypeDesc memoryType, const void* pixels) {
     const std::string temporary = temporaryPathFor(path);
+    const PartialFile guard(temporary);
     auto out = OIIO::ImageOutput::create(path);
     if (!out) throw std::runtime_error(path + ": cannot write this image format (" + OIIO::geterror() + ")");
     bool ok = out->open(temporary, spec) && out->write_image(memoryType, pixels) && out->close();

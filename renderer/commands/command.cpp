@@ -7,6 +7,7 @@
 #include <string>
 
 #include "geometry/input_error.h"
+#include "renderer/partial_files.h"
 #include "renderer/version.h"
 
 namespace isotrace {
@@ -67,6 +68,7 @@ int runReportingErrors(const std::function<int()>& body) {
 }
 
 int runIsotrace(int argc, const char* const* argv) {
+    removePartialFilesOnSignal();
     CLI::App app{"isotrace: a physically based renderer for implicit surfaces"};
     app.set_version_flag("--version", std::string("isotrace ") + kVersion);
     app.require_subcommand(1);
