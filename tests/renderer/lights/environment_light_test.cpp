@@ -153,4 +153,13 @@ TEST(EnvironmentMap, BadMapsAreErrorsNamingTheFile) {
     const std::string both = error({{"type", "environment"}, {"file", folder.file("square.exr")}, {"radiance", {1, 1, 1}}});
     EXPECT_NE(both.find("/radiance: give either"), std::string::npos) << both;
     EXPECT_NE(error({{"type", "environment"}, {"file", missing}, {"scale", -1}}).find("/scale"), std::string::npos);
+    const std::string map = folder.file("square.exr");
+    EXPECT_NE(error({{"type", "environment"}, {"file", map}, {"rotate", {{"axis", {0, 0, 0}}, {"angle", 10}}}})
+                  .find("/rotate/axis: must not be the zero vector"),
+              std::string::npos);
+    EXPECT_NE(error({{"type", "environment"}, {"file", map}, {"rotate", {{"axis", {0, 1, 0}}}}}).find("/rotate"),
+              std::string::npos);
+    EXPECT_NE(error({{"type", "environment"}, {"file", map}, {"rotate", {{"axis", {0, 1, 0}}, {"angle", 10}, {"pivot", 1}}}})
+                  .find("unknown key \"pivot\""),
+              std::string::npos);
 }
