@@ -5,18 +5,10 @@
 #include <limits>
 #include <numbers>
 
+#include "renderer/sampling.h"
 namespace isotrace {
 
 namespace {
-
-// An orthonormal frame around unit w (Duff et al. 2017).
-void frameAround(const Vec3& w, Vec3& s, Vec3& t) {
-    const double sign = std::copysign(1.0, w.z());
-    const double a = -1.0 / (sign + w.z());
-    const double b = w.x() * w.y() * a;
-    s = Vec3(1.0 + sign * w.x() * w.x() * a, sign * b, -sign * w.x());
-    t = Vec3(b, sign + w.y() * w.y() * a, -w.y());
-}
 
 // cos of the half-angle of the cone of directions from a point at distance
 // d to a sphere of radius r (d > r).
@@ -53,14 +45,13 @@ LightSample ImplicitEmitterLight::sample(const LightSampleContext& context, cons
     const Vec3& p = context.p;
     const Vec3 toCenter = center_ - p;
     const double d = toCenter.norm();
-    const double phi = 2.0 * std::numbers::pi * u.y();
     if (d <= radius_) {
-        const double z = 1.0 - 2.0 * u.x(), r = std::sqrt(std::max(0.0, 1.0 - z * z));
-        s.direction = Vec3(r * std::cos(phi), z, r * std::sin(phi));
+        s.direction = sampleUniformSphere(u);
     } else {
+        const double phi = 2.0 * std::numbers::pi * u.y();
         const Vec3 w = toCenter / d;
         Vec3 a, b;
-        frameAround(w, a, b);
+        orthonormalBasis(w, a, b);
         const double cosTheta = 1.0 - u.x() * (1.0 - coneCosine(radius_, d));
         const double sinTheta = std::sqrt(std::max(0.0, 1.0 - cosTheta * cosTheta));
         s.direction = (sinTheta * std::cos(phi) * a + sinTheta * std::sin(phi) * b + cosTheta * w).normalized();

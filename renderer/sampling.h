@@ -10,6 +10,11 @@ namespace isotrace {
 
 using geometry::Vec3;
 
+/// Unit vectors s, t completing unit n to a right-handed orthonormal basis,
+/// without branches on n's direction (Duff et al. 2017).
+void orthonormalBasis(const Vec3& n, Vec3& s, Vec3& t);
+/// A uniform direction on the unit sphere (density 1 / (4 pi)).
+Vec3 sampleUniformSphere(const Eigen::Vector2d& u);
 /// Cosine-weighted direction around unit normal n (density cos / pi).
 Vec3 sampleCosineHemisphere(const Vec3& n, const Eigen::Vector2d& u);
 /// Multiple importance sampling: Veach's power heuristic with exponent 2.

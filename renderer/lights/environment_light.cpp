@@ -30,14 +30,7 @@ public:
     /// Lambertian surface. From a point in space: uniform over the sphere.
     LightSample sample(const LightSampleContext& context, const Eigen::Vector2d& u) const override {
         LightSample s;
-        if (context.n.isZero()) {
-            const double z = 1.0 - 2.0 * u.x();
-            const double r = std::sqrt(std::max(0.0, 1.0 - z * z));
-            const double phi = 2.0 * std::numbers::pi * u.y();
-            s.direction = Vec3(r * std::cos(phi), z, r * std::sin(phi));
-        } else {
-            s.direction = sampleCosineHemisphere(context.n, u);
-        }
+        s.direction = context.n.isZero() ? sampleUniformSphere(u) : sampleCosineHemisphere(context.n, u);
         s.distance = std::numeric_limits<double>::infinity();
         s.radiance = radiance_;
         s.pdf = pdf(context, s.direction, {}, {});
