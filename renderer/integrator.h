@@ -45,7 +45,12 @@ inline Vec3 offsetOrigin(const Vec3& p, const Vec3& n, const Vec3& w) {
 /// hit the light itself.
 bool unoccluded(const Scene& scene, const Vec3& p, const Vec3& ng, const LightSample& sample);
 /// The shading frame at a hit seen along direction wo: normals turned to
-/// wo's side (surfaces are two-sided).
-ShadingPoint shadingPointOf(const SurfaceHit& hit, const Vec3& wo);
+/// wo's side (surfaces are two-sided), the side wo is on, and what
+/// textures look up. `footprint` is the world-space width a pixel covers
+/// there.
+ShadingPoint shadingPointOf(const Scene& scene, const SurfaceHit& hit, const Vec3& wo, double footprint = 0.0);
+/// Width of a pixel's footprint per unit of path length (the camera's
+/// spread angle per pixel; ray cones without curvature).
+double pixelSpreadAngle(const Scene& scene);
 
 }  // namespace isotrace

@@ -9,6 +9,7 @@
 
 #include "renderer/bsdf.h"
 #include "renderer/registry.h"
+#include "renderer/texture.h"
 
 namespace isotrace {
 
@@ -37,7 +38,7 @@ struct Material {
 };
 
 /// Reads one material's keys (the reader is left for the caller to finish).
-using MaterialFactory = Material (*)(geometry::JsonObjectReader& r);
+using MaterialFactory = Material (*)(geometry::JsonObjectReader& r, const MaterialContext& context);
 const Registry<MaterialFactory>& materialRegistry();
 
 }  // namespace isotrace

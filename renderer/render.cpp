@@ -54,7 +54,7 @@ Image render(const Scene& scene, const RenderOptions& options, RenderStatistics*
             const bool found = scene.intersect(ray, INFINITY, hit);
             if (aovs.has(Aov::Albedo)) {
                 RGB a = RGB::Zero();
-                if (found) a = scene.materials[scene.objects[hit.object].material].albedo(shadingPointOf(hit, -ray.direction));
+                if (found) a = scene.materials[scene.objects[hit.object].material].albedo(shadingPointOf(scene, hit, -ray.direction, hit.t * pixelSpreadAngle(scene)));
                 for (int c = 0; c < 3; ++c) sum[aovs.offset(Aov::Albedo) + c] += a[c];
             }
             if (aovs.has(Aov::Normal))

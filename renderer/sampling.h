@@ -13,6 +13,14 @@ using geometry::Vec3;
 /// Unit vectors s, t completing unit n to a right-handed orthonormal basis,
 /// without branches on n's direction (Duff et al. 2017).
 void orthonormalBasis(const Vec3& n, Vec3& s, Vec3& t);
+/// An orthonormal frame around a normal: local coordinates have the normal
+/// as z, as microfacet formulas want.
+struct Frame {
+    Vec3 s, t, n;
+    explicit Frame(const Vec3& normal) : n(normal) { orthonormalBasis(n, s, t); }
+    Vec3 toLocal(const Vec3& v) const { return {v.dot(s), v.dot(t), v.dot(n)}; }
+    Vec3 toWorld(const Vec3& v) const { return v.x() * s + v.y() * t + v.z() * n; }
+};
 /// A uniform direction on the unit sphere (density 1 / (4 pi)).
 Vec3 sampleUniformSphere(const Eigen::Vector2d& u);
 /// Cosine-weighted direction around unit normal n (density cos / pi).

@@ -68,6 +68,8 @@ void Scene::commit() {
         rtcAttachGeometryByID(top_, inst, static_cast<unsigned>(i));
         rtcReleaseGeometry(inst);
         o.normalFromObject = o.worldFromObject.topLeftCorner<3, 3>().inverse().transpose();
+        o.objectFromWorld = o.worldFromObject.inverse();
+        o.objectFromWorldScale = 1.0 / std::cbrt(std::abs(o.worldFromObject.topLeftCorner<3, 3>().determinant()));
     }
     rtcCommitScene(top_);
 }
@@ -122,6 +124,8 @@ bool Scene::intersect(const Ray& ray, double tMax, SurfaceHit& hit) const {
     const Vec3 ng(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z);
     hit.geometricNormal = (o.normalFromObject * ng).normalized();
     hit.shadingNormal = hit.geometricNormal;
+    hit.objectPosition = (o.objectFromWorld * hit.position.homogeneous()).head<3>();
+    hit.objectNormal = ng.normalized();
     if (o.kind == SceneObject::Kind::Mesh) {
         const TriangleMesh& mesh = *meshes[o.shape];
         if (!mesh.normals.empty()) {

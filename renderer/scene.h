@@ -34,6 +34,9 @@ struct SceneObject {
     int areaLight = -1;  ///< index into Scene::lights for emissive objects
     Mat4 worldFromObject = Mat4::Identity();
     Mat3 normalFromObject = Mat3::Identity();  ///< inverse transpose of the linear part
+    Mat4 objectFromWorld = Mat4::Identity();   ///< set by Scene::commit
+    /// Object-space length of a unit world length (the mean scale's inverse).
+    double objectFromWorldScale = 1.0;
 };
 
 struct SurfaceHit {
@@ -41,6 +44,9 @@ struct SurfaceHit {
     Vec3 position;
     Vec3 geometricNormal;  ///< unit, world space, outward for implicits
     Vec3 shadingNormal;    ///< unit, world space
+    /// The point and normal in the object's own space (what textures see).
+    Vec3 objectPosition = Vec3::Zero();
+    Vec3 objectNormal = Vec3(0, 0, 1);
     int object = -1;
     unsigned primitive = 0;
 };

@@ -38,7 +38,7 @@ int SceneBuilder::addMaterial(Material material) {
 }
 
 int SceneBuilder::addMaterial(const std::string& name, const geometry::Json& description) {
-    Material m = makePlugin(materialRegistry(), description);
+    Material m = makePlugin(materialRegistry(), description, MaterialContext{});
     m.name = name;
     return addMaterial(std::move(m));
 }

@@ -52,10 +52,6 @@ public:
         if (r.has("film")) readFilm(r.object("film"));
         applyOverrides();
         if (r.has("integrator")) readIntegrator(r.object("integrator"));
-        if (const Json* materials = r.optionalValue("materials")) {
-            if (!materials->is_object()) r.fail("materials", "expected an object mapping material names to materials");
-            readMaterials(*materials);
-        }
         if (const Json* fields = r.optionalValue("fields")) {
             geometry::FieldLibraryOptions options;
             options.fitCache = overrides_.fitCache ? overrides_.fitCache : processFitCache();
@@ -64,6 +60,12 @@ public:
                 builder_.addWarning(pointer + ": " + message);
             };
             fields_ = geometry::FieldLibrary(*fields, "/fields", path_, std::move(options));
+            hasFields_ = true;
+        }
+        // After the fields: textures may be driven by them.
+        if (const Json* materials = r.optionalValue("materials")) {
+            if (!materials->is_object()) r.fail("materials", "expected an object mapping material names to materials");
+            readMaterials(*materials);
         }
         const Json& objects = r.value("objects");
         if (!objects.is_array()) r.fail("objects", "expected an array of objects");
@@ -145,7 +147,10 @@ private:
         for (auto it = all.begin(); it != all.end(); ++it) {
             JsonObjectReader m(it.value(), jsonPointerAppend("/materials", it.key()), path_);
             const MaterialFactory make = materialRegistry().factoryFor(m);
-            Material material = make(m);
+            MaterialContext context;
+            context.directory = directory_;
+            context.fields = hasFields_ ? &fields_ : nullptr;
+            Material material = make(m, context);
             material.name = it.key();
             m.finish();
             builder_.addMaterial(std::move(material));
@@ -313,6 +318,7 @@ private:
     SceneOverrides overrides_;
     std::filesystem::path directory_;
     geometry::FieldLibrary fields_;
+    bool hasFields_ = false;
     std::map<std::string, int> surfaceIndex_;
     std::map<std::string, int> meshIndex_;
 };

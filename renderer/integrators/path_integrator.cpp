@@ -8,6 +8,10 @@ namespace isotrace {
 
 namespace {
 
+// A direction lies on the same side of the geometric and the shading
+// surface: otherwise shading normals would leak light through the surface.
+bool sameSide(const Vec3& ng, const Vec3& ns, const Vec3& w) { return ng.dot(w) * ns.dot(w) > 0; }
+
 class PathIntegrator final : public Integrator {
 public:
     PathIntegrator(int maxDepth, int russianRouletteDepth)
@@ -23,6 +27,12 @@ public:
         double bsdfPdf = 0.0;
         LightSampleContext previous{ray.origin, Vec3::Zero()};  // where the current ray left a surface
         double previousImportance = 0.0;  // the lights' total importance there
+        // Radiance scaling by refraction (1 / eta^2 per crossing), which
+        // Russian roulette must not mistake for a loss or gain of energy.
+        double etaScale = 1.0;
+        // Distance travelled, for the pixel footprint textures filter over.
+        double pathLength = 0.0;
+        const double spread = pixelSpreadAngle(scene);
 
         for (int depth = 0;; ++depth) {
             SurfaceHit hit;
@@ -35,6 +45,7 @@ public:
                 }
                 break;
             }
+            pathLength += hit.t;
             const SceneObject& object = scene.objects[hit.object];
             const Material& material = scene.materials[object.material];
             const Vec3 wo = -ray.direction;
@@ -55,44 +66,47 @@ public:
             if (depth >= maxDepth_) break;
 
             const BSDF& bsdf = *material.bsdf;
-            const ShadingPoint sp = shadingPointOf(hit, wo);
+            const ShadingPoint sp = shadingPointOf(scene, hit, wo, pathLength * spread);
             const Vec3& ng = sp.geometricNormal;
             const Vec3& ns = sp.shadingNormal;
 
             if (bsdf.isDeltaOnly()) {
                 const std::optional<BSDFSample> s = bsdf.sample(sp, wo, sampler);
-                if (!s) break;
+                if (!s || !sameSide(ng, ns, s->wi)) break;
                 beta *= s->weight;
+                etaScale *= s->etaRatio * s->etaRatio;
                 ray = {offsetOrigin(hit.position, ng, s->wi), s->wi};
                 countEmissionFully = true;
-                previous = {hit.position, ns};
+                previous = {hit.position, bsdf.transmits() ? Vec3(Vec3::Zero()) : ns};
                 continue;
             }
 
-            // Next-event estimation towards one light chosen by its importance here.
+            // Next-event estimation towards one light chosen by its importance
+            // here. A surface that transmits sees lights on both sides: its
+            // context has no normal to bound them by.
             const double uLight = sampler.get1D();
             const Eigen::Vector2d uSample = sampler.get2D();
-            const LightSampleContext here{hit.position, ns};
+            const LightSampleContext here{hit.position, bsdf.transmits() ? Vec3(Vec3::Zero()) : ns};
             const double importance = scene.lightSampler.totalImportance(here);
             double lightChoice = 0.0;
             if (const int index = scene.lightSampler.sample(here, uLight, importance, lightChoice); index >= 0) {
                 const Light& light = *lights[index];
                 const LightSample ls = light.sample(here, uSample);
-                const double cosTheta = ns.dot(ls.direction);
-                if (ls.pdf > 0 && cosTheta > 0 && ng.dot(ls.direction) > 0 && (ls.radiance > 0).any()) {
-                    if (unoccluded(scene, hit.position, ng, ls)) {
-                        const RGB f = bsdf.evaluate(sp, wo, ls.direction);
+                if (ls.pdf > 0 && sameSide(ng, ns, ls.direction) && (ls.radiance > 0).any()) {
+                    const RGB f = bsdf.evaluate(sp, wo, ls.direction);
+                    if ((f > 0).any() && unoccluded(scene, hit.position, ng, ls)) {
                         const double lightPdf = ls.pdf * lightChoice;
                         const double w = ls.isDelta ? 1.0 : powerHeuristic(lightPdf, bsdf.pdf(sp, wo, ls.direction));
-                        L += beta * f * ls.radiance * (w * cosTheta / lightPdf);
+                        L += beta * f * ls.radiance * (w * std::abs(ns.dot(ls.direction)) / lightPdf);
                     }
                 }
             }
 
             // Continue the path by sampling the BSDF.
             const std::optional<BSDFSample> s = bsdf.sample(sp, wo, sampler);
-            if (!s || ng.dot(s->wi) <= 0) break;
+            if (!s || !sameSide(ng, ns, s->wi)) break;
             beta *= s->weight;
+            etaScale *= s->etaRatio * s->etaRatio;
             bsdfPdf = s->pdf;
             countEmissionFully = s->delta;
             previous = here;
@@ -101,7 +115,7 @@ public:
 
             const double uRoulette = sampler.get1D();
             if (depth + 1 >= russianRouletteDepth_) {
-                const double survive = std::min(1.0, beta.maxCoeff());
+                const double survive = std::min(1.0, beta.maxCoeff() * etaScale);
                 if (survive <= 0 || uRoulette >= survive) break;
                 beta /= survive;
             }

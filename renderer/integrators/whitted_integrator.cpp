@@ -1,6 +1,6 @@
 // "whitted": the fast preview. Direct light with hard shadows, recursion
-// through delta (mirror) lobes, and infinite lights as unshadowed ambient
-// light.
+// through every delta lobe (mirrors, the coat of plastic, both ways through
+// glass), and infinite lights as unshadowed ambient light.
 #include <cmath>
 
 #include "renderer/integrator.h"
@@ -16,49 +16,56 @@ public:
     const char* typeName() const override { return "whitted"; }
 
     RGB radiance(const Scene& scene, const Ray& cameraRay, Sampler& sampler) const override {
-        RGB L = RGB::Zero(), beta = RGB::Ones();
-        Ray ray = cameraRay;
-        for (int depth = 0;; ++depth) {
-            SurfaceHit hit;
-            if (!scene.intersect(ray, INFINITY, hit)) {
-                if (scene.environmentLight >= 0)
-                    L += beta * scene.lights[scene.environmentLight]->escapedRadiance(ray.direction);
-                break;
-            }
-            const Material& material = scene.materials[scene.objects[hit.object].material];
-            const Vec3 wo = -ray.direction;
-            if (material.emission && (material.emission->twoSided || hit.geometricNormal.dot(wo) > 0))
-                L += beta * material.emission->radiance;
-            if (!material.bsdf) break;
-            const BSDF& bsdf = *material.bsdf;
-            const ShadingPoint sp = shadingPointOf(hit, wo);
-            const Vec3& ng = sp.geometricNormal;
-            const Vec3& ns = sp.shadingNormal;
-            if (bsdf.isDeltaOnly()) {
-                if (depth >= maxDepth_) break;
-                const std::optional<BSDFSample> s = bsdf.sample(sp, wo, sampler);
-                if (!s) break;
-                beta *= s->weight;
-                ray = {offsetOrigin(hit.position, ng, s->wi), s->wi};
+        return traced(scene, cameraRay, RGB::Ones(), 0, sampler);
+    }
+
+private:
+    // Radiance along `ray` times beta. Delta lobes split the ray (glass
+    // follows both its reflection and its refraction, as Whitted did);
+    // branches whose weight falls below 1e-3 are dropped (Hall's adaptive
+    // depth control), so the recursion stays small.
+    RGB traced(const Scene& scene, const Ray& ray, const RGB& beta, int depth, Sampler& sampler) const {
+        RGB L = RGB::Zero();
+        SurfaceHit hit;
+        if (!scene.intersect(ray, INFINITY, hit)) {
+            if (scene.environmentLight >= 0)
+                L += beta * scene.lights[scene.environmentLight]->escapedRadiance(ray.direction);
+            return L;
+        }
+        const Material& material = scene.materials[scene.objects[hit.object].material];
+        const Vec3 wo = -ray.direction;
+        if (material.emission && (material.emission->twoSided || hit.geometricNormal.dot(wo) > 0))
+            L += beta * material.emission->radiance;
+        if (!material.bsdf) return L;
+        const BSDF& bsdf = *material.bsdf;
+        const ShadingPoint sp = shadingPointOf(scene, hit, wo, hit.t * pixelSpreadAngle(scene));
+        const Vec3& ng = sp.geometricNormal;
+        const Vec3& ns = sp.shadingNormal;
+
+        BSDFSample lobes[2];
+        const int count = depth < maxDepth_ ? bsdf.deltaLobes(sp, wo, lobes) : 0;
+        for (int i = 0; i < count; ++i) {
+            const RGB weight = beta * lobes[i].weight;
+            if (weight.maxCoeff() < 1e-3 || ng.dot(lobes[i].wi) * ns.dot(lobes[i].wi) <= 0) continue;
+            L += traced(scene, {offsetOrigin(hit.position, ng, lobes[i].wi), lobes[i].wi}, weight, depth + 1, sampler);
+        }
+        if (bsdf.isDeltaOnly()) return L;
+
+        const LightSampleContext here{hit.position, bsdf.transmits() ? Vec3(Vec3::Zero()) : ns};
+        for (const auto& light : scene.lights) {
+            if (light->isInfinite() && !light->isDelta()) {
+                L += beta * bsdf.albedo(sp) * light->meanRadiance();
                 continue;
             }
-            for (const auto& light : scene.lights) {
-                if (light->isInfinite() && !light->isDelta()) {
-                    L += beta * bsdf.albedo(sp) * light->meanRadiance();
-                    continue;
-                }
-                const LightSample ls = light->sample({hit.position, ns}, sampler.get2D());
-                const double cosTheta = ns.dot(ls.direction);
-                if (!(ls.pdf > 0) || cosTheta <= 0 || ng.dot(ls.direction) <= 0) continue;
-                if (unoccluded(scene, hit.position, ng, ls))
-                    L += beta * bsdf.evaluate(sp, wo, ls.direction) * ls.radiance * (cosTheta / ls.pdf);
-            }
-            break;
+            const LightSample ls = light->sample(here, sampler.get2D());
+            if (!(ls.pdf > 0) || ng.dot(ls.direction) * ns.dot(ls.direction) <= 0) continue;
+            const RGB f = bsdf.evaluate(sp, wo, ls.direction);
+            if ((f > 0).any() && unoccluded(scene, hit.position, ng, ls))
+                L += beta * f * ls.radiance * (std::abs(ns.dot(ls.direction)) / ls.pdf);
         }
         return L;
     }
 
-private:
     int maxDepth_;
 };
 

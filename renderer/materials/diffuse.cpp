@@ -4,7 +4,6 @@
 
 #include "renderer/material.h"
 #include "renderer/sampling.h"
-#include "renderer/scene_values.h"
 
 namespace isotrace {
 
@@ -12,12 +11,13 @@ namespace {
 
 class DiffuseBSDF final : public BSDF {
 public:
-    explicit DiffuseBSDF(const RGB& albedo) : albedo_(albedo) {}
+    explicit DiffuseBSDF(ColorParameter albedo) : albedo_(std::move(albedo)) {}
 
     uint32_t flags() const override { return kBSDFDiffuseReflection; }
 
     RGB evaluate(const ShadingPoint& p, const Vec3& wo, const Vec3& wi) const override {
-        return albedo_ / std::numbers::pi;
+        if (!(p.shadingNormal.dot(wi) > 0)) return RGB::Zero();
+        return albedo_.at(p) / std::numbers::pi;
     }
     double pdf(const ShadingPoint& p, const Vec3& wo, const Vec3& wi) const override {
         const double cosTheta = p.shadingNormal.dot(wi);
@@ -28,23 +28,21 @@ public:
         s.wi = sampleCosineHemisphere(p.shadingNormal, sampler.get2D());
         const double cosTheta = p.shadingNormal.dot(s.wi);
         if (!(cosTheta > 0)) return std::nullopt;
-        s.weight = albedo_;
+        s.weight = albedo_.at(p);
         s.pdf = cosTheta / std::numbers::pi;
         return s;
     }
-    RGB albedo(const ShadingPoint&) const override { return albedo_; }
+    RGB albedo(const ShadingPoint& p) const override { return albedo_.at(p); }
 
 private:
-    RGB albedo_;
+    ColorParameter albedo_;
 };
 
 }  // namespace
 
-Material readDiffuseMaterial(geometry::JsonObjectReader& r) {
+Material readDiffuseMaterial(geometry::JsonObjectReader& r, const MaterialContext& context) {
     Material m;
-    const RGB albedo = readColor(r, "albedo", RGB::Constant(0.8));
-    if ((albedo > 1.0).any()) r.fail("albedo", "albedo above 1 creates energy");
-    m.bsdf = std::make_shared<DiffuseBSDF>(albedo);
+    m.bsdf = std::make_shared<DiffuseBSDF>(readColorParameter(r, "albedo", RGB::Constant(0.8), context, 0.0, 1.0));
     return m;
 }
 

@@ -5,7 +5,7 @@
 
 namespace isotrace {
 
-Material readEmissiveMaterial(geometry::JsonObjectReader& r) {
+Material readEmissiveMaterial(geometry::JsonObjectReader& r, const MaterialContext&) {
     Material m;
     Emission e;
     e.radiance = readColor(r, "radiance", RGB::Ones());

@@ -4,15 +4,21 @@
 
 namespace isotrace {
 
-Material readDiffuseMaterial(geometry::JsonObjectReader& r);
-Material readMirrorMaterial(geometry::JsonObjectReader& r);
-Material readEmissiveMaterial(geometry::JsonObjectReader& r);
+Material readDiffuseMaterial(geometry::JsonObjectReader& r, const MaterialContext& context);
+Material readMirrorMaterial(geometry::JsonObjectReader& r, const MaterialContext& context);
+Material readEmissiveMaterial(geometry::JsonObjectReader& r, const MaterialContext& context);
+Material readConductorMaterial(geometry::JsonObjectReader& r, const MaterialContext& context);
+Material readDielectricMaterial(geometry::JsonObjectReader& r, const MaterialContext& context);
+Material readPlasticMaterial(geometry::JsonObjectReader& r, const MaterialContext& context);
 
 const Registry<MaterialFactory>& materialRegistry() {
     static const Registry<MaterialFactory> registry({
         {"diffuse", readDiffuseMaterial},
         {"mirror", readMirrorMaterial},
         {"emissive", readEmissiveMaterial},
+        {"conductor", readConductorMaterial},
+        {"dielectric", readDielectricMaterial},
+        {"plastic", readPlasticMaterial},
     });
     return registry;
 }

@@ -20,6 +20,22 @@ inline std::vector<PluginEntry> materialCatalog() {
         {"diffuse", {{"type", "diffuse"}, {"albedo", {0.9, 0.5, 0.2}}}},
         {"mirror", {{"type", "mirror"}, {"reflectance", {0.9, 0.8, 0.7}}}},
         {"emissive", {{"type", "emissive"}, {"radiance", {3, 2, 1}}, {"two_sided", true}}},
+        {"conductor_gold", {{"type", "conductor"}, {"metal", "gold"}}},
+        {"conductor_rough", {{"type", "conductor"}, {"metal", "copper"}, {"roughness", 0.3}}},
+        {"conductor_very_rough", {{"type", "conductor"}, {"reflectance", {0.9, 0.6, 0.3}}, {"roughness", 1.0}}},
+        {"conductor_textured",
+         {{"type", "conductor"},
+          {"eta", {0.2, 0.4, 1.3}},
+          {"k", {3.4, 2.3, 1.8}},
+          {"roughness", {{"type", "checker"}, {"scale", 0.1}, {"colors", {0.2, 0.6}}}}}},
+        {"dielectric", {{"type", "dielectric"}, {"ior", 1.5}}},
+        {"dielectric_rough", {{"type", "dielectric"}, {"ior", 1.5}, {"roughness", 0.3}}},
+        {"dielectric_very_rough", {{"type", "dielectric"}, {"ior", 1.33}, {"roughness", 1.0}}},
+        {"dielectric_thin", {{"type", "dielectric"}, {"ior", 1.5}, {"thin", true}, {"transmittance", {0.9, 0.95, 1}}}},
+        {"plastic", {{"type", "plastic"}, {"albedo", {0.8, 0.3, 0.2}}}},
+        {"plastic_rough", {{"type", "plastic"}, {"albedo", {0.2, 0.5, 0.9}}, {"roughness", 0.3}}},
+        {"plastic_very_rough", {{"type", "plastic"}, {"albedo", {0.9, 0.9, 0.9}}, {"ior", 1.7}, {"roughness", 1.0}}},
+        {"diffuse_noise", {{"type", "diffuse"}, {"albedo", {{"type", "noise"}, {"scale", 0.3}, {"colors", {{0.1, 0.2, 0.3}, {0.9, 0.8, 0.7}}}}}}},
     };
 }
 

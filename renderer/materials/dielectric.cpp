@@ -1,0 +1,177 @@
+// "dielectric": glass, water, clear plastic. Exact Fresnel reflection and
+// Snell refraction, smooth (two delta lobes) or rough (GGX microfacets after
+// Walter et al. 2007, visible-normal sampling), or `thin`: a sheet whose two
+// faces reflect and transmit without bending the ray (windows, bubbles).
+// Which side is inside comes from the shading point: rays travelling inside
+// a solid see the inverse index. Refracted radiance carries 1 / eta^2.
+#include <cmath>
+
+#include "renderer/fresnel.h"
+#include "renderer/material.h"
+#include "renderer/microfacet.h"
+#include "renderer/sampling.h"
+
+namespace isotrace {
+
+namespace {
+
+class DielectricBSDF final : public BSDF {
+public:
+    DielectricBSDF(double ior, ScalarParameter roughness, ColorParameter transmittance, bool thin)
+        : ior_(ior), roughness_(std::move(roughness)), transmittance_(std::move(transmittance)), thin_(thin) {
+        const double alpha = TrowbridgeReitz::alphaFromRoughness(roughness_.maximum());
+        smooth_ = thin_ || TrowbridgeReitz(alpha, alpha).effectivelySmooth();
+    }
+
+    uint32_t flags() const override {
+        return smooth_ ? kBSDFSpecularReflection | kBSDFSpecularTransmission
+                       : kBSDFGlossyReflection | kBSDFGlossyTransmission;
+    }
+
+    RGB evaluate(const ShadingPoint& p, const Vec3& woWorld, const Vec3& wiWorld) const override {
+        if (smooth_) return RGB::Zero();
+        const Frame frame(p.shadingNormal);
+        const Vec3 wo = frame.toLocal(woWorld), wi = frame.toLocal(wiWorld);
+        Vec3 m;
+        double eta;
+        if (!halfVector(p, wo, wi, m, eta)) return RGB::Zero();
+        const TrowbridgeReitz d = distribution(p);
+        const double F = fresnelDielectric(wo.dot(m), eta);
+        if (wi.z() > 0) return RGB::Constant(d.D(m) * d.G(wo, wi) * F / (4.0 * wo.z() * wi.z()));
+        const double denominator = square(wi.dot(m) + wo.dot(m) / eta);
+        const double value = d.D(m) * d.G(wo, wi) * (1.0 - F) * std::abs(wi.dot(m) * wo.dot(m)) /
+                             (std::abs(wi.z() * wo.z()) * denominator) / (eta * eta);
+        return transmittance_.at(p) * value;
+    }
+    double pdf(const ShadingPoint& p, const Vec3& woWorld, const Vec3& wiWorld) const override {
+        if (smooth_) return 0.0;
+        const Frame frame(p.shadingNormal);
+        const Vec3 wo = frame.toLocal(woWorld), wi = frame.toLocal(wiWorld);
+        Vec3 m;
+        double eta;
+        if (!halfVector(p, wo, wi, m, eta)) return 0.0;
+        const TrowbridgeReitz d = distribution(p);
+        const double F = fresnelDielectric(wo.dot(m), eta);
+        if (wi.z() > 0) return d.visibleD(wo, m) / (4.0 * std::abs(wo.dot(m))) * F;
+        const double denominator = square(wi.dot(m) + wo.dot(m) / eta);
+        return d.visibleD(wo, m) * std::abs(wi.dot(m)) / denominator * (1.0 - F);
+    }
+    std::optional<BSDFSample> sample(const ShadingPoint& p, const Vec3& woWorld, Sampler& sampler) const override {
+        const double uChoice = sampler.get1D();
+        if (smooth_) {
+            BSDFSample lobes[2];
+            const int count = deltaLobes(p, woWorld, lobes);
+            if (count == 0) return std::nullopt;
+            // Choose reflection or transmission by their share of the energy,
+            // so a colourless path keeps weight 1.
+            const double reflect = lobes[0].weight.maxCoeff();
+            const double transmit = count > 1 ? lobes[1].weight.maxCoeff() * square(lobes[1].etaRatio) : 0.0;
+            const double total = reflect + transmit;
+            if (!(total > 0)) return std::nullopt;
+            const bool chooseReflection = uChoice * total < reflect;
+            BSDFSample s = lobes[chooseReflection ? 0 : 1];
+            s.weight /= (chooseReflection ? reflect : transmit) / total;
+            return s;
+        }
+        const Frame frame(p.shadingNormal);
+        const Vec3 wo = frame.toLocal(woWorld);
+        const Eigen::Vector2d u = sampler.get2D();
+        if (!(wo.z() > 0)) return std::nullopt;
+        const double eta = relativeIndex(p);
+        const TrowbridgeReitz d = distribution(p);
+        const Vec3 m = d.sampleVisibleNormal(wo, u);
+        const double F = fresnelDielectric(wo.dot(m), eta);
+        Vec3 wi;
+        if (uChoice < F) {
+            wi = reflect(-wo, m);
+            if (!(wi.z() > 0)) return std::nullopt;
+        } else {
+            const std::optional<Vec3> t = refract(wo, m, eta);
+            if (!t || !(t->z() < 0)) return std::nullopt;
+            wi = *t;
+        }
+        BSDFSample s;
+        s.wi = frame.toWorld(wi);
+        s.pdf = pdf(p, woWorld, s.wi);
+        if (!(s.pdf > 0)) return std::nullopt;
+        s.weight = evaluate(p, woWorld, s.wi) * (std::abs(wi.z()) / s.pdf);
+        s.etaRatio = wi.z() < 0 ? eta : 1.0;
+        return s;
+    }
+    int deltaLobes(const ShadingPoint& p, const Vec3& wo, BSDFSample lobes[2]) const override {
+        if (!smooth_) return 0;
+        const Vec3& n = p.shadingNormal;
+        const double cosTheta = n.dot(wo);
+        if (!(cosTheta > 0)) return 0;
+        lobes[0].wi = reflect(-wo, n);
+        lobes[0].delta = true;
+        lobes[1].delta = true;
+        if (thin_) {
+            // Light bounces between the sheet's faces: R' = R + T^2 R / (1 - R^2).
+            double R = fresnelDielectric(cosTheta, ior_);
+            const double T = 1.0 - R;
+            if (R < 1) R += T * T * R / (1 - R * R);
+            lobes[0].weight = RGB::Constant(R);
+            lobes[1].wi = -wo;
+            lobes[1].weight = transmittance_.at(p) * (1.0 - R);
+            return 2;
+        }
+        const double eta = relativeIndex(p);
+        const double R = fresnelDielectric(cosTheta, eta);
+        lobes[0].weight = RGB::Constant(R);
+        const std::optional<Vec3> t = refract(wo, n, eta);
+        if (!t || R >= 1.0) return 1;  // total internal reflection
+        lobes[1].wi = *t;
+        lobes[1].weight = transmittance_.at(p) * ((1.0 - R) / (eta * eta));
+        lobes[1].etaRatio = eta;
+        return 2;
+    }
+    RGB albedo(const ShadingPoint& p) const override { return transmittance_.at(p); }
+
+private:
+    static double square(double x) { return x * x; }
+    /// The index across the surface over the index on wo's side.
+    double relativeIndex(const ShadingPoint& p) const { return p.outside ? ior_ : 1.0 / ior_; }
+    TrowbridgeReitz distribution(const ShadingPoint& p) const {
+        const double alpha =
+            std::max(TrowbridgeReitz::alphaFromRoughness(roughness_.at(p)), TrowbridgeReitz::kSmoothAlpha);
+        return TrowbridgeReitz(alpha, alpha);
+    }
+    /// The microfacet normal taking wo to wi (by reflection or refraction),
+    /// facing wo's side; false for pairs no facet connects.
+    bool halfVector(const ShadingPoint& p, const Vec3& wo, const Vec3& wi, Vec3& m, double& eta) const {
+        if (!(wo.z() > 0) || wi.z() == 0) return false;
+        eta = relativeIndex(p);
+        const bool reflection = wi.z() > 0;
+        m = reflection ? Vec3(wi + wo) : Vec3(wi * eta + wo);
+        if (!(m.squaredNorm() > 0)) return false;
+        m.normalize();
+        if (m.z() < 0) m = -m;
+        // Facets seen from behind by either direction contribute nothing.
+        if (m.dot(wo) <= 0 || m.dot(wi) * wi.z() <= 0) return false;
+        return true;
+    }
+
+    double ior_;
+    ScalarParameter roughness_;
+    ColorParameter transmittance_;
+    bool thin_;
+    bool smooth_ = true;
+};
+
+}  // namespace
+
+Material readDielectricMaterial(geometry::JsonObjectReader& r, const MaterialContext& context) {
+    const double ior = r.number("ior", 1.5);
+    if (!(ior > 0) || !std::isfinite(ior)) r.fail("ior", "the index of refraction must be positive");
+    if (ior > 10) r.fail("ior", "must be at most 10 (diamond is 2.42)");
+    const bool thin = r.boolean("thin", false);
+    ScalarParameter roughness = readScalarParameter(r, "roughness", 0.0, context, 0.0, 1.0);
+    if (thin && roughness.maximum() > 0) r.fail("roughness", "a thin dielectric is smooth: roughness must be 0");
+    Material m;
+    m.bsdf = std::make_shared<DielectricBSDF>(
+        ior, std::move(roughness), readColorParameter(r, "transmittance", RGB::Ones(), context, 0.0, 1.0), thin);
+    return m;
+}
+
+}  // namespace isotrace
