@@ -54,6 +54,7 @@ public:
             if (w[axis] < 1e-4) continue;
             TextureOpt options;
             options.swrap = options.twrap = TextureOpt::WrapPeriodic;
+            options.interpmode = TextureOpt::InterpBilinear;  // B-spline bicubic would blur texels
             float texel[3] = {0, 0, 0};
             ts.texture(handle_, thread, options, float(coordinates[axis][0]), float(1.0 - coordinates[axis][1]), width,
                        0.0f, 0.0f, width, channels_ == 1 ? 1 : 3, texel);
