@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <numbers>
 #include <random>
 
@@ -168,6 +169,8 @@ TEST_P(EveryMaterial, SamplingPassesChiSquareAgainstPdf) {
                     return s && !s->delta ? s->wi : Vec3(Vec3::Zero());
                 },
                 [&](const Vec3& w) { return m.bsdf->pdf(p, wo, w); }, 20, 40, 16);
+            std::printf("chi2 %-22s %s wo.n %.3f: p = %.3g\n", GetParam().name.c_str(), p.outside ? "outside" : "inside ",
+                        wo.dot(p.shadingNormal), result.pValue);
             EXPECT_EQ(result.impossible, 0.0);
             EXPECT_GT(result.pValue, level) << "chi2 " << result.statistic << ", " << result.degreesOfFreedom
                                             << " dof, wo.n " << wo.dot(p.shadingNormal) << ", outside " << p.outside;
