@@ -178,3 +178,21 @@ TEST(Glass, UniformEnvironmentThroughGlassIsAWhiteFurnaceInEveryPixel) {
         EXPECT_LT(worst, 1e-4) << objects;
     }
 }
+
+// The Whitted preview splits at glass instead of choosing: reflection and
+// refraction branches together carry all the light, so a glass ball in a
+// uniform environment is 1 in every pixel at one sample, less only the
+// branches it drops (each of weight below 1e-3; near the rim, where
+// reflection is strong, a pixel drops a few: 0.0028 at worst here) and
+// those past max_depth. Choosing one lobe, or losing one, costs far more.
+TEST(Glass, WhittedPreviewFollowsBothReflectionAndRefraction) {
+    TemporaryFolder folder;
+    std::string text = solidsScene(R"([{"field": "ball", "material": "glass"}])");
+    text.insert(text.rfind('}'), R"(, "lights": [{"type": "environment", "radiance": [1, 1, 1]}],
+        "film": {"width": 24, "height": 24, "spp": 1}, "integrator": {"type": "whitted", "max_depth": 16})");
+    auto scene = loadSceneText(folder, text);
+    const Image image = render(*scene, {.threads = 2, .seed = 2, .quiet = true});
+    double worst = 0.0;
+    for (float v : image.rgb) worst = std::max(worst, std::abs(double(v) - 1.0));
+    EXPECT_LT(worst, 5e-3);
+}
