@@ -23,9 +23,7 @@ std::string scene(const std::string& film = R"({"width": 32, "height": 24, "spp"
 }
 
 void expectError(const std::string& error, const std::string& where, const std::string& what) {
-    EXPECT_NE(error.find("scene.json"), std::string::npos) << "no file name in: " << error;
-    EXPECT_NE(error.find(where), std::string::npos) << "no place \"" << where << "\" in: " << error;
-    EXPECT_NE(error.find(what), std::string::npos) << "no \"" << what << "\" in: " << error;
+    isotrace::testing::expectNamedError(error, where, what);
 }
 
 }  // namespace

@@ -22,10 +22,7 @@ std::string withMaterial(const std::string& material) {
 
 void expectError(const TemporaryFolder& folder, const std::string& material, const std::string& where,
                  const std::string& what) {
-    const std::string error = sceneError(folder, withMaterial(material));
-    EXPECT_NE(error.find("scene.json"), std::string::npos) << "no file name in: " << error;
-    EXPECT_NE(error.find(where), std::string::npos) << "no place \"" << where << "\" in: " << error;
-    EXPECT_NE(error.find(what), std::string::npos) << "no \"" << what << "\" in: " << error;
+    isotrace::testing::expectNamedError(sceneError(folder, withMaterial(material)), where, what);
 }
 
 }  // namespace
