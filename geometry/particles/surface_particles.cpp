@@ -151,12 +151,18 @@ SurfaceComponents findComponents(const FieldProgram& field, const IndexedMesh& m
     options.cellAccelerators.clear();
     const ImplicitSurface surface(field, options);
     if (surface.cells().empty()) return out;
-    const double cellSize = surface.cells().front().box.extent().maxCoeff();
+    // Cells differ in size; the grid's cells are as large as the largest,
+    // so the 27 around a cell's centre hold every vertex within one cell of it.
+    double cellSize = 0.0;
+    for (const SurfaceCell& cell : surface.cells()) cellSize = std::max(cellSize, cell.box.extent().maxCoeff());
     const PointGrid vertices(mesh.vertices, cellSize);
     const int n = 4;
     for (const SurfaceCell& cell : surface.cells()) {
+        // A cell next to the mesh belongs to a component the mesh found
+        // (marching cubes may leave a corner of a cell without a vertex).
         bool covered = false;
-        vertices.forNear(cell.box.center(), [&](uint32_t v) { covered |= cell.box.expanded(1e-9).contains(mesh.vertices[v]); });
+        const Box3 around = cell.box.expanded(0.5 * cell.box.extent().maxCoeff());
+        vertices.forNear(cell.box.center(), [&](uint32_t v) { covered = covered || around.contains(mesh.vertices[v]); });
         if (covered) continue;
         // A sign change between neighbours of an n^3 lattice, refined by bisection.
         auto at = [&](int i, int j, int k) {
@@ -368,19 +374,38 @@ ParticleSampling spreadParticles(const FieldProgram& field, const ParticleOption
         std::vector<Vec3> accepted;
         std::vector<bool> used(candidates.size(), false);
         for (double radius = 0.75 * spacing; accepted.size() < share && radius > 1e-3 * spacing; radius *= 0.8) {
+            // Accepted points hashed by cells of side `radius`: a candidate
+            // need only look at the 27 cells around it.
+            std::unordered_map<uint64_t, std::vector<uint32_t>> cells;
+            auto cellOf = [&](const Vec3& p) {
+                return Eigen::Vector3i(int(std::floor(p.x() / radius)), int(std::floor(p.y() / radius)),
+                                       int(std::floor(p.z() / radius)));
+            };
+            auto keyOf = [](const Eigen::Vector3i& c) {
+                auto part = [](int v) { return uint64_t(uint32_t(v + (1 << 20)) & 0x1FFFFF); };
+                return part(c.x()) | (part(c.y()) << 21) | (part(c.z()) << 42);
+            };
+            for (uint32_t a = 0; a < accepted.size(); ++a) cells[keyOf(cellOf(accepted[a]))].push_back(a);
             for (size_t k = 0; k < candidates.size() && accepted.size() < share; ++k) {
                 if (used[k]) continue;
+                const Eigen::Vector3i c = cellOf(candidates[k]);
                 bool free = true;
-                for (const Vec3& q : accepted)  // components start small; a grid is not worth it here
-                    if ((q - candidates[k]).squaredNorm() < radius * radius) {
-                        free = false;
-                        break;
-                    }
+                for (int dx = -1; dx <= 1 && free; ++dx)
+                    for (int dy = -1; dy <= 1 && free; ++dy)
+                        for (int dz = -1; dz <= 1 && free; ++dz) {
+                            const auto it = cells.find(keyOf(c + Eigen::Vector3i(dx, dy, dz)));
+                            if (it == cells.end()) continue;
+                            for (uint32_t a : it->second)
+                                if ((accepted[a] - candidates[k]).squaredNorm() < radius * radius) {
+                                    free = false;
+                                    break;
+                                }
+                        }
                 if (!free) continue;
                 used[k] = true;
+                cells[keyOf(c)].push_back(uint32_t(accepted.size()));
                 accepted.push_back(candidates[k]);
             }
-            if (accepted.size() > 4096) break;  // large components: dart throwing below 0.75 d is enough
         }
         for (const Vec3& p : accepted) {
             positions.push_back(p);

@@ -73,7 +73,7 @@ int runIsotrace(int argc, const char* const* argv) {
     app.set_version_flag("--version", std::string("isotrace ") + kVersion);
     app.require_subcommand(1);
     const Subcommand commands[] = {addRenderCommand(app),  addPolygonizeCommand(app), addMergeCommand(app),
-                                   addCompareCommand(app), addFitCommand(app),        addPreviewCommand(app)};
+                                   addCompareCommand(app), addFitCommand(app),        addPreviewCommand(app), addSampleCommand(app)};
     try {
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp& e) {

@@ -189,6 +189,60 @@ TEST(CommandLine, PolygonizeBadInput) {
     EXPECT_NE(empty.output.find("warning"), std::string::npos) << empty.output;
 }
 
+TEST(CommandLine, SampleWritesParticlesAndAReport) {
+    TemporaryFolder folder;
+    const std::string scene = folder.write("s.json", kFieldScene);
+    const auto r = runIsotrace("sample " + scene + " --field ring --count 500 --seed 3 --report -o " + folder.file("ring.ply"));
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    const auto report = nlohmann::json::parse(r.output);
+    EXPECT_NEAR(report["count"].get<double>(), 500, 50);
+    EXPECT_LT(report["max_distance"].get<double>(), 1e-6);
+    EXPECT_LT(report["nearest_neighbour_variation"].get<double>(), 0.15);
+    EXPECT_EQ(report["components"].size(), 1u);
+    // Binary PLY: the header, then 7 floats per particle.
+    const std::string ply = readFile(folder.file("ring.ply"));
+    ASSERT_EQ(ply.rfind("ply\nformat binary_little_endian 1.0\n", 0), 0u);
+    const size_t body = ply.find("end_header\n") + 11;
+    EXPECT_EQ(ply.size() - body, 28 * report["count"].get<size_t>());
+    // Text points are what variational fields read: fit the ring from them.
+    const auto xyz = runIsotrace("sample " + scene + " --field ring --spacing 0.2 -o " + folder.file("ring.xyz"));
+    ASSERT_EQ(xyz.exitCode, 0) << xyz.output;
+    const std::string fitted = folder.write("fitted.json", R"({"camera": {"from": [0, 0, 4], "to": [0, 0, 0]},
+      "materials": {"clay": {"type": "diffuse"}},
+      "fields": {"refit": {"type": "variational", "points": "ring.xyz"}},
+      "objects": [{"field": "refit", "material": "clay"}]})");
+    const auto render = runIsotrace("render " + fitted + " --width 8 --height 8 --spp 1 --no-preview -q -o " +
+                                    folder.file("refit.exr"));
+    EXPECT_EQ(render.exitCode, 0) << render.output;
+}
+
+TEST(CommandLine, SampleBadInput) {
+    TemporaryFolder folder;
+    const std::string scene = folder.write("s.json", kFieldScene);
+    struct Case {
+        std::string arguments, expect;
+    };
+    const std::vector<Case> cases{
+        {"--field ring -o " + folder.file("a.ply") + " --count 0", "--count"},
+        {"--field ring -o " + folder.file("b.ply") + " --spacing -0.1", "--spacing"},
+        {"--field ring -o " + folder.file("c.ply") + " --spacing nan", "--spacing"},
+        {"--field ring -o " + folder.file("d.ply"), "give one of --count and --spacing"},
+        {"--field ring -o " + folder.file("e.ply") + " --count 10 --spacing 0.1", "excludes"},
+        {"--field ring -o " + folder.file("f.ply") + " --spacing 1e-6", "10 million"},
+        {"--field open -o " + folder.file("g.ply") + " --count 10", "unbounded"},
+        {"--field nothing -o " + folder.file("h.ply") + " --count 10", "no surface"},
+        {"--field rign -o " + folder.file("i.ply") + " --count 10", "did you mean \"ring\""},
+        {"--field ring -o " + folder.file("j.obj") + " --count 10", "unknown point set format"},
+        {"--field ring -o " + folder.file("k.ply") + " --count 10 --seed -1", "--seed"},
+    };
+    for (const Case& c : cases) {
+        const auto r = runIsotrace("sample " + scene + " " + c.arguments);
+        EXPECT_EQ(r.exitCode, 2) << c.arguments << ": " << r.output;
+        EXPECT_NE(r.output.find(c.expect), std::string::npos) << c.arguments << ": " << r.output;
+    }
+    EXPECT_EQ(filesIn(folder.path()), 1u) << "no point set may be written";
+}
+
 TEST(CommandLine, RenderSwitchesEveryFieldObjectToAMesh) {
     TemporaryFolder folder;
     const std::string scene = folder.write("ball.json", kSmallScene);
