@@ -56,11 +56,30 @@ void Scene::commit() {
         surfaceScenes.push_back(s);
         shapeScenes_.push_back(s);
     }
+    std::vector<RTCScene> discScenes;
+    for (const auto& set : discs) {
+        RTCScene s = rtcNewScene(device_);
+        if (set->count() > 0) {
+            RTCGeometry g = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_ORIENTED_DISC_POINT);
+            rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4, set->centersAndRadii.data(), 0,
+                                       4 * sizeof(float), set->count());
+            rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_NORMAL, 0, RTC_FORMAT_FLOAT3, set->normals.data(), 0,
+                                       3 * sizeof(float), set->count());
+            rtcCommitGeometry(g);
+            rtcAttachGeometry(s, g);
+            rtcReleaseGeometry(g);
+        }
+        rtcCommitScene(s);
+        discScenes.push_back(s);
+        shapeScenes_.push_back(s);
+    }
     top_ = rtcNewScene(device_);
     for (size_t i = 0; i < objects.size(); ++i) {
         SceneObject& o = objects[i];
         RTCGeometry inst = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_INSTANCE);
-        rtcSetGeometryInstancedScene(inst, o.kind == SceneObject::Kind::Mesh ? meshScenes[o.shape] : surfaceScenes[o.shape]);
+        rtcSetGeometryInstancedScene(inst, o.kind == SceneObject::Kind::Mesh       ? meshScenes[o.shape]
+                                           : o.kind == SceneObject::Kind::Implicit ? surfaceScenes[o.shape]
+                                                                                   : discScenes[o.shape]);
         Eigen::Matrix<float, 3, 4> m = o.worldFromObject.topRows<3>().cast<float>();
         // Column-major 3x4, as Embree's FLOAT3X4_COLUMN_MAJOR expects.
         rtcSetGeometryTransform(inst, 0, RTC_FORMAT_FLOAT3X4_COLUMN_MAJOR, m.data());

@@ -26,10 +26,10 @@ using geometry::Mat4;
 
 /// One instance in the scene: a shape placed by a transform.
 struct SceneObject {
-    enum class Kind { Mesh, Implicit };
+    enum class Kind { Mesh, Implicit, Discs };
     Kind kind = Kind::Mesh;
     std::string name;
-    int shape = 0;  ///< index into Scene::meshes or Scene::surfaces
+    int shape = 0;  ///< index into Scene::meshes, Scene::surfaces or Scene::discs
     int material = 0;
     int areaLight = -1;  ///< index into Scene::lights for emissive objects
     Mat4 worldFromObject = Mat4::Identity();
@@ -70,6 +70,7 @@ public:
     std::vector<Material> materials;
     std::vector<std::shared_ptr<TriangleMesh>> meshes;
     std::vector<std::unique_ptr<geometry::ImplicitSurface>> surfaces;
+    std::vector<std::shared_ptr<DiscPoints>> discs;
     std::vector<SceneObject> objects;
     std::vector<std::unique_ptr<const Light>> lights;
     int environmentLight = -1;
@@ -91,7 +92,12 @@ public:
     /// The Embree scene of the shape an object places, in the shape's own
     /// space (after commit): for tracing one object alone.
     RTCScene shapeScene(const SceneObject& object) const {
-        return shapeScenes_[object.kind == SceneObject::Kind::Mesh ? object.shape : meshes.size() + object.shape];
+        switch (object.kind) {
+            case SceneObject::Kind::Mesh: return shapeScenes_[object.shape];
+            case SceneObject::Kind::Implicit: return shapeScenes_[meshes.size() + object.shape];
+            case SceneObject::Kind::Discs: break;
+        }
+        return shapeScenes_[meshes.size() + surfaces.size() + object.shape];
     }
 
 private:

@@ -72,8 +72,15 @@ int SceneBuilder::addSurface(std::unique_ptr<geometry::ImplicitSurface> surface)
     return int(scene_->surfaces.size() - 1);
 }
 
+int SceneBuilder::addDiscs(DiscPoints discs) {
+    scene_->discs.push_back(std::make_shared<DiscPoints>(std::move(discs)));
+    return int(scene_->discs.size() - 1);
+}
+
 int SceneBuilder::addObject(const SceneObject& object) {
-    const size_t shapes = object.kind == SceneObject::Kind::Mesh ? scene_->meshes.size() : scene_->surfaces.size();
+    const size_t shapes = object.kind == SceneObject::Kind::Mesh       ? scene_->meshes.size()
+                          : object.kind == SceneObject::Kind::Implicit ? scene_->surfaces.size()
+                                                                       : scene_->discs.size();
     if (object.shape < 0 || size_t(object.shape) >= shapes) throw std::logic_error("object placed with no such shape");
     if (object.material < 0 || size_t(object.material) >= scene_->materials.size())
         throw std::logic_error("object placed with no such material");

@@ -38,6 +38,7 @@ public:
     /// Adds shapes that objects place; each returns the shape's index.
     int addMesh(TriangleMesh mesh);
     int addSurface(std::unique_ptr<geometry::ImplicitSurface> surface);
+    int addDiscs(DiscPoints discs);
 
     /// Places a shape: `object.kind` and `object.shape` name it.
     int addObject(const SceneObject& object);

@@ -11,6 +11,7 @@
 #include "geometry/description/field_parser.h"
 #include "geometry/description/json_reader.h"
 #include "geometry/meshing/polygonizer.h"
+#include "geometry/particles/surface_particles.h"
 #include "renderer/field_hosting.h"
 #include "renderer/scene_builder.h"
 #include "renderer/scene_values.h"
@@ -218,7 +219,7 @@ private:
                 if (auto near = geometry::nearestName(field, fields_.names())) message += " (did you mean \"" + *near + "\"?)";
                 r.fail("field", message);
             }
-            std::string as = r.choice("as", {"implicit", "mesh"}, "implicit");
+            std::string as = r.choice("as", {"implicit", "mesh", "particles"}, "implicit");
             // Mesh settings are read whatever "as" says, so --as can switch.
             geometry::PolygonizeOptions polygonize;
             polygonize.method = r.choice("method", {"marching_cubes", "adaptive"}, "marching_cubes") == "adaptive"
@@ -227,11 +228,25 @@ private:
             polygonize.resolution =
                 static_cast<int>(r.integer("resolution", 0, 1, geometry::kMaxPolygonizeResolution));
             polygonize.tolerance = r.has("tolerance") ? r.positiveNumber("tolerance") : 0.0;
+            // Particle settings likewise.
+            geometry::ParticleOptions particles;
+            if (r.has("spacing")) {
+                particles.spacing = r.positiveNumber("spacing");
+                if (r.has("count")) r.fail("count", "give \"count\" or \"spacing\", not both");
+            } else {
+                particles.count = size_t(r.integer("count", 5000, 1, 10000000));
+            }
+            particles.seed = uint64_t(r.integer("seed", 1, 0, std::numeric_limits<int64_t>::max()));
+            const double discScale = r.number("disc_scale", 0.9);
+            if (!(discScale > 0 && discScale <= 4)) r.fail("disc_scale", "must be in (0, 4]");
             if (overrides_.fieldMode == SceneOverrides::FieldMode::Implicit) as = "implicit";
             if (overrides_.fieldMode == SceneOverrides::FieldMode::Mesh) as = "mesh";
             if (as == "mesh") {
                 o.kind = SceneObject::Kind::Mesh;
                 o.shape = polygonizedMesh(field, polygonize, r);
+            } else if (as == "particles") {
+                o.kind = SceneObject::Kind::Discs;
+                o.shape = particleDiscs(field, particles, discScale, r);
             } else {
                 o.kind = SceneObject::Kind::Implicit;
                 auto it = surfaceIndex_.find(field);
@@ -287,6 +302,30 @@ private:
         builder_.addObject(o);
     }
 
+    // One set of particles per field and settings, shown as discs of
+    // radius disc_scale times each particle's (half the local spacing).
+    int particleDiscs(const std::string& field, const geometry::ParticleOptions& options, double discScale,
+                      JsonObjectReader& r) {
+        const std::string key = field + "|" + std::to_string(options.count) + "|" + std::to_string(options.spacing) +
+                                "|" + std::to_string(options.seed) + "|" + std::to_string(discScale);
+        if (const auto it = discIndex_.find(key); it != discIndex_.end()) return it->second;
+        geometry::ParticleSampling sampling;
+        try {
+            sampling = geometry::spreadParticles(fields_.compile(field), options);
+        } catch (const std::invalid_argument& e) {
+            r.failHere(std::string("cannot spread particles on field \"") + field + "\": " + e.what());
+        }
+        DiscPoints discs;
+        for (const geometry::SurfaceParticle& p : sampling.particles) {
+            for (int k = 0; k < 3; ++k) discs.centersAndRadii.push_back(float(p.position[k]));
+            discs.centersAndRadii.push_back(float(discScale * p.radius));
+            for (int k = 0; k < 3; ++k) discs.normals.push_back(float(p.normal[k]));
+        }
+        const int index = builder_.addDiscs(std::move(discs));
+        discIndex_.emplace(key, index);
+        return index;
+    }
+
     // One mesh per field and settings, shared by every object that uses it.
     int polygonizedMesh(const std::string& field, const geometry::PolygonizeOptions& options, JsonObjectReader& r) {
         const std::string key = field + "|" + std::to_string(int(options.method)) + "|" +
@@ -319,6 +358,7 @@ private:
     std::filesystem::path directory_;
     geometry::FieldLibrary fields_;
     bool hasFields_ = false;
+    std::map<std::string, int> discIndex_;
     std::map<std::string, int> surfaceIndex_;
     std::map<std::string, int> meshIndex_;
 };

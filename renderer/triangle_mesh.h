@@ -30,6 +30,14 @@ struct TriangleMesh {
     void computeSmoothNormals();
 };
 
+/// Oriented discs (Embree's built-in disc points): how particles on a
+/// surface are shown. Object space, single precision.
+struct DiscPoints {
+    std::vector<float> centersAndRadii;  ///< x y z radius per disc
+    std::vector<float> normals;          ///< x y z per disc, unit
+    size_t count() const { return centersAndRadii.size() / 4; }
+};
+
 /// Loads OBJ, OFF or PLY through Assimp. Throws InputError naming `path`.
 TriangleMesh loadTriangleMesh(const std::string& path);
 
