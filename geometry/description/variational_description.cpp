@@ -7,7 +7,7 @@
 
 #include "geometry/content_hash.h"
 #include "geometry/mesh_file.h"
-#include "geometry/meshing/polygonizer.h"
+#include "geometry/particles/surface_particles.h"
 
 namespace isotrace::geometry {
 
@@ -54,22 +54,22 @@ Json vecJson(const Vec3& v) { return Json::array({v.x(), v.y(), v.z()}); }
 
 namespace {
 
-// Oriented points on the surface of any field: the vertices of a
-// marching-cubes mesh, every k-th to get about `count`, with the field's
-// gradient directions as normals.
+// Oriented points on the surface of any field: particles spread evenly over
+// it (every component gets its share), with the field's gradient directions
+// as normals. Even spacing keeps constraints apart, which keeps the
+// interpolation system well conditioned.
 std::vector<OrientedPoint> samplesOf(const FieldProgram& field, int count, JsonObjectReader& r) {
-    PolygonizeOptions options;
-    options.resolution = 48;
-    Polygonization p;
+    ParticleOptions options;
+    options.count = size_t(count);
+    options.seed = 1;
+    ParticleSampling sampling;
     try {
-        p = polygonize(field, options);
+        sampling = spreadParticles(field, options);
     } catch (const std::invalid_argument& e) {
         r.fail("sample", e.what());
     }
-    if (p.mesh.vertices.empty()) r.fail("sample", "the sampled field has no surface inside its bounds");
-    const size_t stride = std::max<size_t>(1, p.mesh.vertices.size() / size_t(count));
     std::vector<OrientedPoint> points;
-    for (size_t v = 0; v < p.mesh.vertices.size(); v += stride) points.push_back({p.mesh.vertices[v], p.mesh.normals[v]});
+    for (const SurfaceParticle& p : sampling.particles) points.push_back({p.position, p.normal});
     return points;
 }
 
