@@ -497,6 +497,71 @@ FieldLibrary::FieldLibrary(const Json& fields, std::string pointer, std::string 
     : fields_(fields), pointer_(std::move(pointer)), file_(std::move(file)), options_(std::move(options)) {
     if (!options_.fitCache) options_.fitCache = std::make_shared<FitCache>();
     if (!fields_.is_object()) throw InputError(file_, pointer_, "expected an object mapping field names to descriptions");
+    checkForCycles();
+}
+
+namespace {
+
+// The names a description refers to, with where: strings where a field goes
+// ("of", variational "sample" and "blend", and the arrays under them), in
+// nested descriptions too.
+struct FieldReference {
+    std::string name, pointer;
+};
+
+void collectReferences(const Json& j, const std::string& pointer, const Json& fields, std::vector<FieldReference>& out) {
+    if (j.is_string()) {
+        if (fields.contains(j.get<std::string>())) out.push_back({j.get<std::string>(), pointer});
+        return;
+    }
+    if (j.is_array()) {
+        for (size_t i = 0; i < j.size(); ++i) collectReferences(j[i], jsonPointerAppend(pointer, i), fields, out);
+        return;
+    }
+    if (!j.is_object()) return;
+    for (const char* key : {"of", "sample", "blend"})
+        if (const auto it = j.find(key); it != j.end()) collectReferences(*it, jsonPointerAppend(pointer, key), fields, out);
+}
+
+}  // namespace
+
+void FieldLibrary::checkForCycles() const {
+    // Depth-first search with an explicit stack (chains of thousands of
+    // named fields must not exhaust the call stack): 0 unvisited, 1 on the
+    // current path, 2 done.
+    std::map<std::string, int> state;
+    std::map<std::string, std::vector<FieldReference>> references;
+    for (auto it = fields_.begin(); it != fields_.end(); ++it)
+        collectReferences(it.value(), jsonPointerAppend(pointer_, it.key()), fields_, references[it.key()]);
+    for (auto it = fields_.begin(); it != fields_.end(); ++it) {
+        if (state[it.key()] != 0) continue;
+        std::vector<std::pair<std::string, size_t>> path{{it.key(), 0}};
+        state[it.key()] = 1;
+        while (!path.empty()) {
+            auto& [name, next] = path.back();
+            const std::vector<FieldReference>& out = references[name];
+            if (next == out.size()) {
+                state[name] = 2;
+                path.pop_back();
+                continue;
+            }
+            const FieldReference& reference = out[next++];
+            const std::string& target = reference.name;
+            if (state[target] == 1) {
+                std::string chain;
+                bool on = false;
+                for (const auto& [step, unused] : path) {
+                    on = on || step == target;
+                    if (on) chain += step + " -> ";
+                }
+                throw InputError(file_, reference.pointer, "cycle in the field graph: " + chain + target);
+            }
+            if (state[target] == 0) {
+                state[target] = 1;
+                path.emplace_back(target, 0);
+            }
+        }
+    }
 }
 
 bool FieldLibrary::contains(const std::string& name) const { return fields_.contains(name); }

@@ -47,6 +47,8 @@ public:
     static std::vector<std::string> typeNames();
     /// Checks every named field (compiles each once).
     void validateAll() const;
+    /// Fails on a cycle among the fields, used or not (names the chain).
+    void checkForCycles() const;
 
 private:
     Json fields_ = Json::object();

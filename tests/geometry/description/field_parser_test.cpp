@@ -50,6 +50,31 @@ TEST(FieldParser, SelfReferenceIsACycle) {
     EXPECT_NE(e.find("cycle"), std::string::npos) << e;
 }
 
+// The graph must have no cycles even among fields no object uses: the
+// library refuses them when it is made, naming the reference that closes
+// the cycle. The check walks with its own stack: a chain of 20,000 named
+// fields is fine.
+TEST(FieldParser, CyclesAmongUnusedFieldsAreRefused) {
+    try {
+        FieldLibrary library(Json::parse(R"({"used": {"type": "sphere", "radius": 1},
+            "x": {"type": "union", "of": ["used", {"type": "offset", "distance": 0.1, "of": "y"}]},
+            "y": {"type": "variational", "blend": ["z", "x"]},
+            "z": {"type": "sphere", "radius": 1}})"),
+                             "/fields", "scene.json");
+        FAIL() << "a cycle was accepted";
+    } catch (const InputError& e) {
+        const std::string what = e.what();
+        EXPECT_NE(what.find("cycle in the field graph: x -> y -> x"), std::string::npos) << what;
+        EXPECT_NE(what.find("/fields/y/blend/1"), std::string::npos) << what;
+    }
+    Json chain = Json::object();
+    chain["f0"] = {{"type", "sphere"}, {"radius", 1}};
+    for (int i = 1; i < 20000; ++i) chain["f" + std::to_string(i)] = {{"type", "offset"}, {"distance", 0.0}, {"of", "f" + std::to_string(i - 1)}};
+    EXPECT_NO_THROW(FieldLibrary(chain, "/fields", "scene.json"));
+    chain["f0"] = {{"type", "offset"}, {"distance", 0.0}, {"of", "f19999"}};
+    EXPECT_THROW(FieldLibrary(chain, "/fields", "scene.json"), InputError);
+}
+
 TEST(FieldParser, InvalidParametersNameTheirPath) {
     EXPECT_NE(compileError(R"({"a": {"type": "sphere", "radius": -1}})", "a").find("/fields/a/radius"), std::string::npos);
     EXPECT_NE(compileError(R"({"a": {"type": "sphere", "radius": "big"}})", "a").find("expected a number"), std::string::npos);
