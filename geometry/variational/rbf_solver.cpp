@@ -232,9 +232,18 @@ VariationalField fitVariationalField(const ConstraintSet& set, FitReport* report
                       rcond, r.maxResidual);
         r.warnings.push_back(text);
     }
-    if (r.maxResidual > 1e-6 * std::max(valueScale, 1e-300))
-        r.warnings.push_back("the fit misses its constraints by up to " + std::to_string(r.maxResidual) +
-                             " (values up to " + std::to_string(valueScale) + ")");
+    // Without a constraint on the surface (or a gradient through it) and with
+    // every value on one side, the field has no reason to cross zero.
+    if (set.gradients.empty() && !set.values.empty()) {
+        bool allOutside = true, allInside = true;
+        for (const ValueConstraint& v : set.values) {
+            allOutside = allOutside && v.value > 0;
+            allInside = allInside && v.value < 0;
+        }
+        if (allOutside || allInside)
+            r.warnings.push_back(std::string("every constraint is ") + (allOutside ? "exterior (positive)" : "interior (negative)") +
+                                 " and none lies on the surface: the field likely has no surface; add boundary points");
+    }
     r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (report) *report = r;
     return field;

@@ -25,6 +25,25 @@ std::vector<OrientedPoint> spherePoints(int count, double radius = 1.0) {
 
 }  // namespace
 
+// Constraints all on one side (only "exterior" points) leave the field
+// without a surface: the fit says so, once, and only then.
+TEST(VariationalFit, WarnsWhenNoConstraintCanMakeASurface) {
+    ConstraintSet outside;
+    for (const OrientedPoint& p : spherePoints(20)) outside.addExterior(p.position);
+    auto count = [](const FitReport& report, const std::string& text) {
+        int n = 0;
+        for (const std::string& w : report.warnings) n += w.find(text) != std::string::npos;
+        return n;
+    };
+    FitReport report;
+    fitVariationalField(outside, &report);
+    EXPECT_EQ(count(report, "every constraint is exterior"), 1);
+    ConstraintSet inside;
+    for (const OrientedPoint& p : spherePoints(20)) inside.addInterior(p.position);
+    fitVariationalField(inside, &report);
+    EXPECT_EQ(count(report, "every constraint is interior"), 1);
+}
+
 TEST(VariationalFit, InterpolatesEveryConstraint) {
     const ConstraintSet set = constraintsFromOrientedPoints(spherePoints(200), 0.05, false);
     FitReport report;
