@@ -277,7 +277,13 @@ int runCompare(const CompareCommand& c) {
         if (d.nonFinite)
             std::printf("%lld pixels are NaN or infinite; the first at (%d, %d)\n", d.nonFinite, d.firstNonFiniteX,
                         d.firstNonFiniteY);
-        std::printf("%s: %s %.6g (fail at %.6g)\n", verdict.c_str(), c.metric.c_str(), value, failAt);
+        if (d.nonFinite > 0 && !worse(failAt))
+            // The metrics cover the finite pixels only: the verdict must not
+            // read as if a small value failed.
+            std::printf("FAIL: %lld pixels are NaN or infinite (%s %.6g over the finite ones)\n", d.nonFinite,
+                        c.metric.c_str(), value);
+        else
+            std::printf("%s: %s %.6g (fail at %.6g)\n", verdict.c_str(), c.metric.c_str(), value, failAt);
     }
     return failed ? kExitComparisonFailed : kExitSuccess;
 }

@@ -436,6 +436,8 @@ TEST(CommandLine, CompareMetricExitPathsOnHandComputedImages) {
     const auto nan = runIsotrace("compare " + withNan + " " + reference + " --fail 100");
     EXPECT_EQ(nan.exitCode, 1);
     EXPECT_NE(nan.output.find("first at (0, 0)"), std::string::npos) << nan.output;
+    EXPECT_NE(nan.output.find("FAIL: 1 pixels are NaN or infinite"), std::string::npos) << nan.output;
+    EXPECT_EQ(nan.output.find("(fail at"), std::string::npos) << "the verdict names the NaN, not a passing value: " << nan.output;
     // Different channel sets: bad input, naming them.
     isotrace::Image withAlpha;
     withAlpha.width = 2;
