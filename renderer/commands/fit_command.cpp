@@ -2,6 +2,7 @@
 // an oriented point set, saved so scenes load it without solving again
 // ({"type": "variational", "fitted": "FIELD.json"}).
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 
@@ -26,6 +27,23 @@ struct FitCommand {
     bool quiet = false;
 };
 
+// Errors about the description the command line became, said in the
+// user's terms: the input file as typed (not "command line: /mesh: /abs/path")
+// and options by their flags.
+InputError commandLineError(const InputError& e, const std::string& input, const std::string& absoluteInput) {
+    if (e.where() == "/mesh" || e.where() == "/points") {
+        std::string message = e.message();
+        const std::string prefix = absoluteInput + ": ";
+        if (message.rfind(prefix, 0) == 0) message = message.substr(prefix.size());
+        // The reader's own place in the file (a line) stays in the message.
+        return InputError(input, "", message);
+    }
+    std::string flag = e.where();
+    if (!flag.empty() && flag[0] == '/') flag = "--" + flag.substr(1);
+    std::replace(flag.begin(), flag.end(), '_', '-');
+    return InputError("command line", flag, e.message());
+}
+
 // Bad input (unreadable or malformed files, singular systems, too many
 // constraints) throws geometry::InputError; nothing is written then.
 int runFit(const FitCommand& c) {
@@ -42,7 +60,12 @@ int runFit(const FitCommand& c) {
     reader.string("type");
     // Errors inside the input file name it and the line.
     geometry::VariationalContext context;
-    const geometry::VariationalSource source = geometry::readVariationalSource(reader, context);
+    geometry::VariationalSource source;
+    try {
+        source = geometry::readVariationalSource(reader, context);
+    } catch (const InputError& e) {
+        throw commandLineError(e, c.input, std::filesystem::absolute(c.input).string());
+    }
     geometry::FitReport report;
     geometry::VariationalField field;
     try {

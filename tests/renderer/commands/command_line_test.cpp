@@ -498,6 +498,14 @@ TEST(CommandLine, FitWritesAFieldScenesLoadAndRefusesBadInput) {
         EXPECT_NE(r.output.find(c.message), std::string::npos) << c.arguments << ": " << r.output;
         EXPECT_FALSE(std::filesystem::exists(out)) << c.arguments;
     }
+    // Errors in the input name it as typed, not as the description the
+    // command line became ("command line: /mesh: /abs/path").
+    const auto missing = runIsotrace("fit " + folder.file("none.off") + " -o " + out);
+    EXPECT_NE(missing.output.find("error: " + folder.file("none.off") + ": mesh file not found"), std::string::npos)
+        << missing.output;
+    EXPECT_EQ(missing.output.find("command line"), std::string::npos) << missing.output;
+    const auto line = runIsotrace("fit " + malformed + " -o " + out);
+    EXPECT_NE(line.output.find("error: " + malformed + ": line 2: "), std::string::npos) << line.output;
 }
 
 // An output that is one of the inputs (however it is spelt) or not a
