@@ -279,13 +279,20 @@ FlipResult hdrFlip(const Image& test, const Image& reference, double ppd) {
     }
     const double brightest = luminance.empty() ? 0.0 : *std::max_element(luminance.begin(), luminance.end());
     if (brightest > 0) {
-        // The median of the lit pixels: a render on black would otherwise
-        // have a median of zero and no finite stop exposure.
-        std::vector<double> lit;
-        for (double y : luminance)
-            if (y > 0) lit.push_back(y);
-        std::nth_element(lit.begin(), lit.begin() + lit.size() / 2, lit.end());
-        const double median = lit[lit.size() / 2];
+        // The median over every pixel, black ones included, as NVIDIA's
+        // reference does. Only when more than half the image is black
+        // (where the reference's stop exposure is infinite) the median of the
+        // lit pixels stands in.
+        std::vector<double> all = luminance;
+        std::nth_element(all.begin(), all.begin() + all.size() / 2, all.end());
+        double median = all[all.size() / 2];
+        if (!(median > 0)) {
+            std::vector<double> lit;
+            for (double y : luminance)
+                if (y > 0) lit.push_back(y);
+            std::nth_element(lit.begin(), lit.begin() + lit.size() / 2, lit.end());
+            median = lit[lit.size() / 2];
+        }
         const double target = acesInverse(0.85);
         r.startExposure = std::log2(target / brightest);
         r.stopExposure = std::log2(target / median);

@@ -75,6 +75,21 @@ TEST(Flip, HdrExposuresFollowTheReference) {
     const FlipResult w = hdrFlip(wide, wide);
     EXPECT_NEAR(w.stopExposure - w.startExposure, 2.8, 1e-5);
     EXPECT_EQ(w.exposures, 3);
+
+    // Black pixels count in the median, as in NVIDIA's tool: blacken pixels
+    // 10..15 and the sorted values are 6 zeros, then the lit pixels 9..0;
+    // the median (index 8) is still pixel 7, 2.8 stops below the brightest.
+    // (The median of the lit pixels alone would be pixel 4: 1.6 stops.)
+    Image blackened = wide;
+    for (int x = 10; x < 16; ++x) std::fill_n(blackened.pixel(x, 0), 3, 0.0f);
+    const FlipResult b = hdrFlip(blackened, blackened);
+    EXPECT_NEAR(b.stopExposure - b.startExposure, 6.0 * 7 / 15, 1e-5);
+    // More than half black: the median of the lit pixels stands in, finite.
+    Image dark = uniform(16, 1, 0, 0, 0);
+    for (int x = 0; x < 4; ++x) std::fill_n(dark.pixel(x, 0), 3, std::exp2(-float(x)));
+    const FlipResult d = hdrFlip(dark, dark);
+    EXPECT_TRUE(std::isfinite(d.stopExposure));
+    EXPECT_NEAR(d.stopExposure - d.startExposure, 1.0, 1e-5) << "lit median: the upper middle of 1/8, 1/4, 1/2, 1";
 }
 
 TEST(Flip, LostEdgesCostMoreThanTheirColourChange) {
