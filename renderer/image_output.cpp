@@ -32,6 +32,18 @@ void writeBuffer(const std::string& path, const OIIO::ImageSpec& spec, OIIO::Typ
         std::filesystem::remove(temporary);
         throw std::runtime_error(path + ": cannot write image: " + message);
     }
+    // OpenImageIO's PNG writer reports no error when the disk fills up (a
+    // truncated file and success): read such files back before they count.
+    if (std::filesystem::path(path).extension() != ".exr") {
+        auto in = OIIO::ImageInput::open(temporary);
+        std::vector<unsigned char> check(spec.image_bytes());
+        if (!in || !in->read_image(0, 0, 0, spec.nchannels, spec.format, check.data())) {
+            if (in) in->close();
+            std::filesystem::remove(temporary);
+            throw std::runtime_error(path + ": cannot write image: the file was cut short (is the disk full?)");
+        }
+        in->close();
+    }
     std::error_code ec;
     std::filesystem::rename(temporary, path, ec);
     if (ec) {
