@@ -228,7 +228,8 @@ TEST(DirectLighting, GrazingAreaLightsMatchThePolygonFormula) {
                                       {"radius", radius}, {"radiance", {25, 25, 25}}};
     for (const char* integrator : {"path", "whitted"}) {
         for (const auto& [light, polygon] : {std::pair{quadLight, quad}, std::pair{diskLight, disk}}) {
-            const auto scene = floorScene(integrator, -1.0, [&](SceneBuilder& b) { b.addLight(light); });
+            const geometry::Json& description = light;  // structured bindings cannot be captured before C++20 in clang 14
+            const auto scene = floorScene(integrator, -1.0, [&](SceneBuilder& b) { b.addLight(description); });
             for (double x : {4.0, 8.0, 16.0, 22.7, 30.0}) {
                 const double angle = std::atan2(x, 4.0) * 180 / std::numbers::pi;
                 const double expected = 0.5 / std::numbers::pi * polygonIrradiance(Vec3(x, -1, 0), Vec3(0, 1, 0), polygon, 25);
