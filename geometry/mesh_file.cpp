@@ -2,12 +2,15 @@
 
 #include <assimp/Importer.hpp>
 #include <assimp/scene.h>
+#include <array>
 #include <cctype>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <unordered_map>
 
+#include "geometry/bounding_box.h"
 #include "geometry/input_error.h"
 
 namespace isotrace::geometry {
@@ -159,6 +162,58 @@ std::vector<Vec3> areaWeightedVertexNormals(const IndexedMesh& mesh) {
     }
     for (Vec3& n : sum) n = n.norm() > 0 ? Vec3(n.normalized()) : Vec3(0, 1, 0);
     return sum;
+}
+
+MeshRepair weldCoincidentVertices(IndexedMesh& mesh, double relativeTolerance) {
+    MeshRepair repair;
+    if (mesh.vertices.empty()) return repair;
+    Box3 box;
+    for (const Vec3& v : mesh.vertices) box.extend(v);
+    const double tolerance = relativeTolerance * std::max(box.extent().norm(), 1e-300);
+    // Cells of side `tolerance`: a vertex's twins lie in the 27 cells around it.
+    auto cellOf = [&](const Vec3& p) {
+        const Vec3 c = (p - box.lower) / tolerance;
+        return std::array<int64_t, 3>{int64_t(std::floor(c.x())), int64_t(std::floor(c.y())), int64_t(std::floor(c.z()))};
+    };
+    struct CellHash {
+        size_t operator()(const std::array<int64_t, 3>& c) const {
+            return size_t(c[0] * 73856093) ^ size_t(c[1] * 19349663) ^ size_t(c[2] * 83492791);
+        }
+    };
+    std::unordered_map<std::array<int64_t, 3>, std::vector<uint32_t>, CellHash> cells;
+    std::vector<uint32_t> representative(mesh.vertices.size());
+    for (uint32_t v = 0; v < mesh.vertices.size(); ++v) {
+        const auto c = cellOf(mesh.vertices[v]);
+        uint32_t found = v;
+        for (int dx = -1; dx <= 1 && found == v; ++dx)
+            for (int dy = -1; dy <= 1 && found == v; ++dy)
+                for (int dz = -1; dz <= 1 && found == v; ++dz) {
+                    const auto it = cells.find({c[0] + dx, c[1] + dy, c[2] + dz});
+                    if (it == cells.end()) continue;
+                    for (uint32_t w : it->second)
+                        if ((mesh.vertices[w] - mesh.vertices[v]).norm() <= tolerance) {
+                            found = w;
+                            break;
+                        }
+                }
+        representative[v] = found;
+        if (found == v) cells[c].push_back(v);
+        else ++repair.weldedVertices;
+    }
+    if (repair.weldedVertices == 0 && mesh.triangles.empty()) return repair;
+    std::vector<std::array<uint32_t, 3>> kept;
+    kept.reserve(mesh.triangles.size());
+    for (std::array<uint32_t, 3> t : mesh.triangles) {
+        for (uint32_t& i : t) i = representative[i];
+        const Vec3 e1 = mesh.vertices[t[1]] - mesh.vertices[t[0]], e2 = mesh.vertices[t[2]] - mesh.vertices[t[0]];
+        if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2] || !(e1.cross(e2).norm() > 0)) {
+            ++repair.droppedTriangles;
+            continue;
+        }
+        kept.push_back(t);
+    }
+    mesh.triangles = std::move(kept);
+    return repair;
 }
 
 }  // namespace isotrace::geometry

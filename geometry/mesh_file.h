@@ -13,6 +13,17 @@ namespace isotrace::geometry {
 /// and files without triangles throw InputError naming the file and place.
 IndexedMesh readMeshFile(const std::string& path);
 
+struct MeshRepair {
+    size_t weldedVertices = 0;   ///< vertices merged into one at the same place
+    size_t droppedTriangles = 0; ///< triangles left with zero area or a repeated vertex
+};
+
+/// Real models repeat vertices (UV seams, split normals) and carry slivers.
+/// Merges vertices closer than `relativeTolerance` times the bounding box's
+/// diagonal (the first of them keeps its index), then drops triangles that
+/// became degenerate. Unused vertices stay (they carry no surface).
+MeshRepair weldCoincidentVertices(IndexedMesh& mesh, double relativeTolerance = 1e-7);
+
 /// Area-weighted vertex normals (unit; (0, 1, 0) where the faces around a
 /// vertex cancel).
 std::vector<Vec3> areaWeightedVertexNormals(const IndexedMesh& mesh);

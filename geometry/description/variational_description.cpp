@@ -84,18 +84,37 @@ std::string constraintHash(const ConstraintSet& c, const FitOptions& options) {
     return hexDigest(h);
 }
 
-std::vector<OrientedPoint> pointsFromFile(JsonObjectReader& r, const char* key, const std::string& base, Json& provenance,
-                                          bool mesh) {
-    const std::string name = r.string(key), path = resolved(name, base);
+std::vector<OrientedPoint> pointsFromFile(JsonObjectReader& r, const char* key, const VariationalContext& context,
+                                          Json& provenance, bool mesh) {
+    const std::string name = r.string(key), path = resolved(name, context.baseDirectory);
     std::vector<OrientedPoint> points;
+    MeshRepair repair;
     try {
-        points = mesh ? orientedPointsOfMesh(readMeshFile(path)) : readOrientedPoints(path);
+        if (mesh) {
+            // Models repeat vertices at seams: one constraint per place, or
+            // the system has two equal rows.
+            IndexedMesh m = readMeshFile(path);
+            repair = weldCoincidentVertices(m);
+            if (m.triangles.empty()) throw InputError(path, "", "every triangle is degenerate");
+            points = orientedPointsOfMesh(m);
+        } else {
+            points = readOrientedPoints(path);
+        }
     } catch (const InputError& e) {
         throw InputError(r.file(), r.pointerOf(key), e.what());
     }
     uint64_t fileHash = kFnvOffsetBasis;
     fnv1a64File(path, fileHash);
     provenance[key] = {{"file", name}, {"hash", hexDigest(fileHash)}, {"count", points.size()}};
+    if (repair.weldedVertices || repair.droppedTriangles) {
+        provenance[key]["welded_vertices"] = repair.weldedVertices;
+        provenance[key]["dropped_triangles"] = repair.droppedTriangles;
+        if (context.warn)
+            context.warn(r.file(), r.pointerOf(key),
+                         "welded " + std::to_string(repair.weldedVertices) +
+                             " vertices that coincide with others and dropped " +
+                             std::to_string(repair.droppedTriangles) + " degenerate triangles");
+    }
     return points;
 }
 
@@ -107,9 +126,9 @@ VariationalSource readVariationalSource(JsonObjectReader& r, VariationalContext&
 
     // Oriented points from files, sampled fields and inline "normals".
     std::vector<OrientedPoint> oriented;
-    if (r.has("points")) oriented = pointsFromFile(r, "points", context.baseDirectory, provenance, false);
+    if (r.has("points")) oriented = pointsFromFile(r, "points", context, provenance, false);
     if (r.has("mesh")) {
-        const std::vector<OrientedPoint> m = pointsFromFile(r, "mesh", context.baseDirectory, provenance, true);
+        const std::vector<OrientedPoint> m = pointsFromFile(r, "mesh", context, provenance, true);
         oriented.insert(oriented.end(), m.begin(), m.end());
     }
     if (r.has("sample")) {

@@ -60,6 +60,9 @@ int runFit(const FitCommand& c) {
     reader.string("type");
     // Errors inside the input file name it and the line.
     geometry::VariationalContext context;
+    context.warn = [&](const std::string&, const std::string&, const std::string& message) {
+        std::fprintf(stderr, "warning: %s: %s\n", c.input.c_str(), message.c_str());
+    };
     geometry::VariationalSource source;
     try {
         source = geometry::readVariationalSource(reader, context);

@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include "geometry/input_error.h"
+
+#include <set>
 #include "support/temporary_files.h"
 
 using namespace isotrace::geometry;
@@ -65,4 +67,28 @@ TEST(MeshFile, OnlyTheDocumentedFormats) {
     EXPECT_NE(errorOf(folder.write("part.stl", "solid x\nendsolid x\n")).find("unknown mesh format \".stl\""),
               std::string::npos);
     EXPECT_NE(errorOf(folder.file("missing.off")).find("mesh file not found"), std::string::npos);
+}
+
+// A tetrahedron whose faces each have their own copies of the corners (as
+// UV seams leave them), one copy off by less than the tolerance, plus a
+// triangle that collapses: welding leaves the four corners and the four
+// faces.
+TEST(MeshFile, WeldingMergesCoincidentVerticesAndDropsDegenerateTriangles) {
+    IndexedMesh m;
+    const Vec3 corners[4] = {Vec3(1, 1, 1), Vec3(1, -1, -1), Vec3(-1, 1, -1), Vec3(-1, -1, 1)};
+    const std::array<uint32_t, 3> faces[4] = {{0, 1, 2}, {0, 3, 1}, {0, 2, 3}, {1, 3, 2}};
+    for (const auto& f : faces) {
+        const uint32_t base = uint32_t(m.vertices.size());
+        for (uint32_t i : f) m.vertices.push_back(corners[i] + Vec3(1e-9 * base, 0, 0));
+        m.triangles.push_back({base, base + 1, base + 2});
+    }
+    m.vertices.push_back(corners[0] + Vec3(0, 1e-3, 0));  // near, but not within the tolerance
+    m.triangles.push_back({0, 3, uint32_t(m.vertices.size() - 1)});  // 0 and 3 weld: it collapses
+    const MeshRepair repair = weldCoincidentVertices(m);
+    EXPECT_EQ(repair.weldedVertices, 8u);
+    EXPECT_EQ(repair.droppedTriangles, 1u);
+    ASSERT_EQ(m.triangles.size(), 4u);
+    std::set<uint32_t> used;
+    for (const auto& t : m.triangles) used.insert(t.begin(), t.end());
+    EXPECT_EQ(used.size(), 4u);
 }

@@ -510,6 +510,28 @@ TEST(CommandLine, FitWritesAFieldScenesLoadAndRefusesBadInput) {
 
 // An output that is one of the inputs (however it is spelt) or not a
 // regular file is refused before any work: exit 2, the input unchanged.
+// A model whose faces carry their own copies of shared corners (UV seams)
+// was refused ("value constraints coincide"); fit welds them, says how many,
+// and fits exactly what the clean model gives.
+TEST(CommandLine, FitWeldsCoincidentVerticesOfRealModels) {
+    TemporaryFolder folder;
+    const std::string clean = folder.write("clean.off",
+        "OFF\n4 4 0\n1 1 1\n1 -1 -1\n-1 1 -1\n-1 -1 1\n3 0 1 2\n3 0 3 1\n3 0 2 3\n3 1 3 2\n");
+    const std::string seams = folder.write("seams.off",
+        "OFF\n12 5 0\n1 1 1\n1 -1 -1\n-1 1 -1\n1 1 1\n-1 -1 1\n1 -1 -1\n1 1 1\n-1 1 -1\n-1 -1 1\n"
+        "1 -1 -1\n-1 -1 1\n-1 1 -1\n3 0 1 2\n3 3 4 5\n3 6 7 8\n3 9 10 11\n3 0 3 6\n");
+    const auto a = runIsotrace("fit " + clean + " -o " + folder.file("clean.fit.json"));
+    const auto b = runIsotrace("fit " + seams + " -o " + folder.file("seams.fit.json"));
+    ASSERT_EQ(a.exitCode, 0) << a.output;
+    ASSERT_EQ(b.exitCode, 0) << b.output;
+    EXPECT_NE(b.output.find("welded 8 vertices that coincide with others and dropped 1 degenerate triangles"),
+              std::string::npos) << b.output;
+    const auto fa = nlohmann::json::parse(std::ifstream(folder.file("clean.fit.json")));
+    const auto fb = nlohmann::json::parse(std::ifstream(folder.file("seams.fit.json")));
+    EXPECT_EQ(fa["weights"], fb["weights"]);
+    EXPECT_EQ(fb["source"]["mesh"]["welded_vertices"], 8);
+}
+
 TEST(CommandLine, OutputsNeverReplaceInputsOrNonFiles) {
     TemporaryFolder folder;
     const std::string scene = folder.write("s.json", kSmallScene);
