@@ -20,13 +20,14 @@
 #include "geometry/fields/revolved_profile.h"
 #include "geometry/fields/sphere.h"
 #include "geometry/fields/torus.h"
+#include "geometry/pointsets/mpu_field.h"
 #include "geometry/variational/variational_leaf.h"
 
 namespace isotrace::geometry {
 
 using LeafShape = std::variant<SphereField, BoxField, TorusField, PlaneField, EllipsoidField, RevolvedProfileField,
                                PolylineDistanceField, PolynomialField, BlobbyField, ConvolutionField,
-                               VariationalLeafField>;
+                               VariationalLeafField, MpuLeafField>;
 
 /// Where a leaf sits: its shape is evaluated at leafFromWorld(p) and its value
 /// multiplied by valueScale (the smallest singular value of the accumulated

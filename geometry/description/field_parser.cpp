@@ -1,6 +1,7 @@
 #include "geometry/description/field_parser.h"
 
 #include "geometry/description/transform_description.h"
+#include "geometry/description/mpu_description.h"
 #include "geometry/description/variational_description.h"
 
 #include <Eigen/SVD>
@@ -359,6 +360,16 @@ uint32_t makeVariational(Compiler& c, JsonObjectReader& r, const LeafPlacement& 
     return c.program.addLeaf(VariationalLeafField{variationalFieldFromDescription(r, context)}, p);
 }
 
+// ---- multi-level partition of unity implicits (Ohtake et al.) -------------
+
+uint32_t makeMpu(Compiler& c, JsonObjectReader& r, const LeafPlacement& p) {
+    VariationalContext context;
+    context.baseDirectory = std::filesystem::path(c.file()).parent_path().string();
+    context.references = &c;
+    context.warn = c.options().warn;
+    return c.program.addLeaf(MpuLeafField{mpuFieldFromDescription(r, context)}, p);
+}
+
 // ---- operators -----------------------------------------------------------
 
 // Folds operands pairwise as a balanced tree, so pruning can drop whole halves.
@@ -439,6 +450,7 @@ const std::map<std::string, FieldFactory>& registry() {
         {"distance", makeDistance},
         {"convolution", makeConvolution},
         {"variational", makeVariational},
+        {"mpu", makeMpu},
         {"union", makeUnion},
         {"intersection", makeIntersection},
         {"difference", makeDifference},

@@ -120,11 +120,7 @@ std::vector<OrientedPoint> pointsFromFile(JsonObjectReader& r, const char* key, 
 
 }  // namespace
 
-VariationalSource readVariationalSource(JsonObjectReader& r, VariationalContext& context) {
-    VariationalSource source;
-    Json provenance = Json::object();
-
-    // Oriented points from files, sampled fields and inline "normals".
+std::vector<OrientedPoint> readOrientedPointSources(JsonObjectReader& r, VariationalContext& context, Json& provenance) {
     std::vector<OrientedPoint> oriented;
     if (r.has("points")) oriented = pointsFromFile(r, "points", context, provenance, false);
     if (r.has("mesh")) {
@@ -143,6 +139,14 @@ VariationalSource readVariationalSource(JsonObjectReader& r, VariationalContext&
         if (!(n.norm() > 0)) r.fail("normals", "a normal is the zero vector");
         oriented.push_back({vec(v, 0), n.normalized()});
     }
+    return oriented;
+}
+
+VariationalSource readVariationalSource(JsonObjectReader& r, VariationalContext& context) {
+    VariationalSource source;
+    Json provenance = Json::object();
+    // Oriented points from files, sampled fields and inline "normals".
+    const std::vector<OrientedPoint> oriented = readOrientedPointSources(r, context, provenance);
     const bool hermite = r.boolean("hermite", false);
     const double offset = r.has("normal_offset") ? r.positiveNumber("normal_offset") : defaultNormalOffset(oriented);
     source.constraints = constraintsFromOrientedPoints(oriented, offset, hermite);

@@ -48,6 +48,11 @@ struct VariationalContext {
     std::function<void(const std::string& file, const std::string& pointer, const std::string& message)> warn;
 };
 
+/// Oriented points from "points" (a point set file), "mesh" (a polygon
+/// model, welded), "sample" with "count" (particles on another field) and
+/// "normals" (inline rows), in that order; provenance records the files.
+std::vector<OrientedPoint> readOrientedPointSources(JsonObjectReader& r, VariationalContext& context, Json& provenance);
+
 /// Reads the constraint keys of `r` (all but "fitted"). Errors are
 /// InputErrors at the key.
 VariationalSource readVariationalSource(JsonObjectReader& r, VariationalContext& context);

@@ -15,7 +15,7 @@ namespace fs = std::filesystem;
 // it belongs to no library.
 int layerOf(const std::string& path) {
     auto in = [&](const char* folder) { return path.rfind(folder, 0) == 0; };
-    if (in("geometry/fields/") || in("geometry/variational/")) return 1;
+    if (in("geometry/fields/") || in("geometry/variational/") || in("geometry/pointsets/")) return 1;
     if (in("geometry/tracing/") || in("geometry/meshing/")) return 3;
     if (in("geometry/particles/")) return 4;
     if (in("geometry/description/")) return 5;

@@ -53,6 +53,8 @@ inline std::vector<CatalogEntry> fieldCatalog() {
         {"convolution", R"({"type": "convolution", "threshold": 0.5, "segments": [
             {"from": [-0.8, 0, 0], "to": [0.8, 0, 0], "radius": 0.3},
             {"from": [0, -0.7, 0], "to": [0, 0.7, 0.2], "radius": 0.25, "weight": 0.9}]})"},
+        {"mpu_ring", R"({"type": "mpu", "sample": "ring", "count": 250})"},
+        {"mpu_cube", R"({"type": "mpu", "sample": "cube", "count": 300, "accuracy": 0.01})"},
         {"variational", R"({"type": "variational", "boundary": [[0.8, 0.8, 0.8], [0.8, -0.8, -0.8], [-0.8, 0.8, -0.8], [-0.8, -0.8, 0.8]], "interior": [[0, 0, 0]]})"},
         {"variational_hermite", R"({"type": "variational", "hermite": true, "normals": [[0.7, 0, 0, 1, 0, 0], [-0.7, 0, 0, -1, 0, 0],
             [0, 0.5, 0, 0, 1, 0], [0, -0.5, 0, 0, -1, 0], [0, 0, 0.6, 0, 0, 1], [0, 0, -0.6, 0, 0, -1]]})"},

@@ -99,7 +99,9 @@ TEST_P(EveryMaterial, SamplesAgreeWithEvaluateAndPdf) {
                 const std::optional<BSDFSample> bs = bsdf.sample(p, wo, sampler);
                 if (!bs) continue;
                 ASSERT_NEAR(bs->wi.norm(), 1.0, 1e-9);
-                if (n.dot(bs->wi) < 0) EXPECT_TRUE(bsdf.transmits()) << "a reflector sampled below its surface";
+                if (n.dot(bs->wi) < 0) {
+                    EXPECT_TRUE(bsdf.transmits()) << "a reflector sampled below its surface";
+                }
                 sum += bs->weight * bs->etaRatio * bs->etaRatio;
                 if (bs->delta) {
                     // Only the delta lobe reaches wi: other lobes would have a value there.

@@ -1,0 +1,114 @@
+// Multi-level partition of unity implicits (Ohtake, Belyaev, Alexa, Turk and
+// Seidel, SIGGRAPH 2003) from oriented points: an octree over the points
+// whose cells each fit a local function to the points in a ball around them,
+// refined where the fit misses by more than the accuracy asked for, and
+// blended by compactly supported weights:
+//
+//   f(x) = sum_i w_i(x) Q_i(x) / sum_i w_i(x),  w_i(x) = (1 - |x - c_i|^2 / R_i^2)^3.
+//
+// Local functions are quadratic height functions over the points' mean
+// plane (the paper's bivariate quadratic), or that plane alone where the
+// normals disagree at the deepest level. Negative inside, as every field.
+//
+// Bounds for sphere tracing are proven, not sampled: over a box, f is a
+// convex combination of the Q_i whose supports reach it, so its range lies
+// in the hull of their interval ranges; its gradient
+//   grad f = sum_i [w_i grad Q_i + (Q_i - f) grad w_i] / W
+// is bounded by the largest |grad Q_i| plus the range's width times
+// sum_i |grad w_i|max / W_min, where W_min > 0 because every point of the
+// domain lies in an octree cell whose own ball reaches at least
+// 1 / (2 support) of its radius beyond it.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "geometry/bounding_box.h"
+#include "geometry/interval.h"
+
+namespace isotrace::geometry {
+
+struct MpuPoint {
+    Vec3 position;
+    Vec3 normal;  ///< outward, unit
+};
+
+struct MpuOptions {
+    /// Largest distance of the points to the surface of their local fit,
+    /// relative to the points' bounding diagonal.
+    double accuracy = 2e-3;
+    /// Ball radius over cell diagonal (the paper's alpha); above 0.5.
+    double support = 0.75;
+    int maxDepth = 10;
+    /// Points a ball must hold; smaller balls grow until they do.
+    int minPoints = 15;
+};
+
+struct MpuReport {
+    size_t localFunctions = 0;
+    size_t planes = 0;  ///< cells that fell back to a plane
+    int depth = 0;
+    double maxError = 0.0;  ///< of the points against their local fits, relative to the diagonal
+    double seconds = 0.0;
+};
+
+class MpuField {
+public:
+    /// Throws std::invalid_argument for fewer than minPoints points,
+    /// non-finite values or bad options.
+    static MpuField fit(const std::vector<MpuPoint>& points, const MpuOptions& options = {}, MpuReport* report = nullptr);
+
+    double value(const Vec3& p) const;
+    double valueAndGradient(const Vec3& p, Vec3& gradient) const;
+    Interval range(const Box3& box) const;
+    double lipschitz(const Box3& box) const;
+    Box3 bounds() const { return domain_; }
+    /// Local functions blended at a typical point (evaluation cost).
+    size_t termCount() const { return typicalTerms_; }
+
+private:
+    struct Local {
+        Vec3 center;
+        double radius = 0;
+        Vec3 origin, u, v, n;  ///< frame of the height function; n outward
+        double a = 0, b = 0, c = 0, d = 0, e = 0, f = 0;  ///< h = a s^2 + b s t + c t^2 + d s + e t + f
+        double evaluate(const Vec3& x, Vec3* gradient) const;
+        Interval range(const Box3& box) const;
+        double gradientBound(const Box3& box) const;
+    };
+
+    template <class Visit>
+    void forLocalsAt(const Vec3& p, Visit&& visit) const;
+    /// visit(local, distance range from its centre to the box) for every
+    /// local whose ball reaches the box, once each.
+    template <class Visit>
+    void forLocalsTouching(const Box3& box, Visit&& visit) const;
+
+    static constexpr double kBackgroundWeight = 1e-6;
+    double background(const Vec3& p, Vec3* gradient) const;
+
+    std::vector<Local> locals_;
+    Box3 domain_;
+    // A uniform grid over the domain: each cell lists the locals whose ball reaches it.
+    int grid_ = 1;
+    Vec3 cellSize_ = Vec3::Ones();
+    std::vector<uint32_t> cellStart_, cellItems_;
+    double minimumWeight_ = 0.0;
+    double backgroundMargin_ = 0.0;
+    size_t typicalTerms_ = 1;
+};
+
+/// An MPU field as a leaf of field programs (shared, not copied).
+struct MpuLeafField {
+    std::shared_ptr<const MpuField> field;
+
+    double value(const Vec3& p) const { return field->value(p); }
+    double valueAndGradient(const Vec3& p, Vec3& gradient) const { return field->valueAndGradient(p, gradient); }
+    Interval range(const Box3& box) const { return field->range(box); }
+    double lipschitz(const Box3& box) const { return field->lipschitz(box); }
+    Box3 bounds() const { return field->bounds(); }
+    size_t termCount() const { return field->termCount(); }
+};
+
+}  // namespace isotrace::geometry
