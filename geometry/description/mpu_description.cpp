@@ -48,10 +48,11 @@ std::shared_ptr<const MpuField> mpuFieldFromDescription(JsonObjectReader& r, Var
         return cachedFit(hexDigest(h), [&] {
             MpuReport report;
             MpuField field = MpuField::fit(points, options, &report);
-            if (context.warn && report.planes > 0)
+            if (context.warn && report.maxError > 3 * options.accuracy)
                 context.warn(r.file(), r.pointer(),
-                             std::to_string(report.planes) + " cells at the deepest level kept a plane where normals "
-                             "disagree (sharp features are approximated)");
+                             "the fit misses some points by " + std::to_string(report.maxError) +
+                                 " of the points' size (accuracy " + std::to_string(options.accuracy) +
+                                 "): too few points where the surface bends or folds");
             return field;
         });
     } catch (const std::invalid_argument& e) {

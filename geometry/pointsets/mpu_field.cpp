@@ -73,19 +73,13 @@ private:
 }  // namespace
 
 double MpuField::Local::evaluate(const Vec3& x, Vec3* gradient) const {
-    const Vec3 r = x - origin;
-    const double s = r.dot(u), t = r.dot(v), h = r.dot(n);
-    const double q = h - (a * s * s + b * s * t + c * t * t + d * s + e * t + f);
-    if (gradient) *gradient = n - (2 * a * s + b * t + d) * u - (b * s + 2 * c * t + e) * v;
-    return q;
+    const Vec3 y = x - origin;
+    const Vec3 Ay = A * y;
+    if (gradient) *gradient = g + 2.0 * Ay;
+    return c0 + g.dot(y) + y.dot(Ay);
 }
 
 namespace {
-// The interval of a linear function g(x) = k . (x - o) over a box.
-Interval linearRange(const Vec3& k, const Vec3& o, const Box3& box) {
-    const double center = k.dot(box.center() - o), half = k.cwiseAbs().dot(0.5 * box.extent());
-    return {center - half, center + half};
-}
 Interval square(Interval a) {
     const double lo2 = a.lo * a.lo, hi2 = a.hi * a.hi;
     if (a.lo <= 0 && a.hi >= 0) return {0.0, std::max(lo2, hi2)};
@@ -94,15 +88,27 @@ Interval square(Interval a) {
 }  // namespace
 
 Interval MpuField::Local::range(const Box3& box) const {
-    const Interval s = linearRange(u, origin, box), t = linearRange(v, origin, box), h = linearRange(n, origin, box);
-    const Interval height = a * square(s) + b * (s * t) + c * square(t) + d * s + e * t + Interval{f, f};
-    return widened(h - height);
+    Interval y[3];
+    for (int k = 0; k < 3; ++k) y[k] = {box.lower[k] - origin[k], box.upper[k] - origin[k]};
+    Interval q{c0, c0};
+    for (int k = 0; k < 3; ++k) {
+        q += g[k] * y[k];
+        q += A(k, k) * square(y[k]);
+        for (int l = k + 1; l < 3; ++l) q += (2.0 * A(k, l)) * (y[k] * y[l]);
+    }
+    return widened(q);
 }
 
 double MpuField::Local::gradientBound(const Box3& box) const {
-    const Interval s = linearRange(u, origin, box), t = linearRange(v, origin, box);
-    const double hs = (2 * a * s + b * t + Interval{d, d}).magnitude(), ht = (b * s + 2 * c * t + Interval{e, e}).magnitude();
-    return std::sqrt(1.0 + hs * hs + ht * ht) * (1 + 1e-12);
+    Interval y[3];
+    for (int k = 0; k < 3; ++k) y[k] = {box.lower[k] - origin[k], box.upper[k] - origin[k]};
+    double sum = 0;
+    for (int k = 0; k < 3; ++k) {
+        Interval d{g[k], g[k]};
+        for (int l = 0; l < 3; ++l) d += (2.0 * A(k, l)) * y[l];
+        sum += d.magnitude() * d.magnitude();
+    }
+    return std::sqrt(sum) * (1 + 1e-12);
 }
 
 MpuField MpuField::fit(const std::vector<MpuPoint>& points, const MpuOptions& options, MpuReport* report) {
@@ -163,54 +169,74 @@ MpuField MpuField::fit(const std::vector<MpuPoint>& points, const MpuOptions& op
         local.center = cell.center;
         local.radius = radius;
         const double radius2 = radius * radius;
+        auto weightAt = [&](uint32_t i) {
+            return std::max(weightOf((points[i].position - cell.center).squaredNorm(), radius2), 1e-12);
+        };
         double total = 0;
         Vec3 centroid = Vec3::Zero(), normal = Vec3::Zero();
         for (uint32_t i : near) {
-            const double w = std::max(weightOf((points[i].position - cell.center).squaredNorm(), radius2), 1e-12);
+            const double w = weightAt(i);
             total += w;
             centroid += w * points[i].position;
             normal += w * points[i].normal.normalized();
         }
         centroid /= total;
+        local.origin = centroid;
         const bool normalsCancel = !(normal.norm() > 1e-9 * total);
         if (!normalsCancel) normal.normalize();
-        double agreement = 1.0;
-        for (uint32_t i : near) agreement = std::min(agreement, normalsCancel ? -1.0 : points[i].normal.normalized().dot(normal));
-        // Normals turning more than about 80 degrees away: no height field
-        // over one plane describes them; a smaller cell will.
-        if (agreement < 0.2 && !deepest) {
-            subdivide();
-            continue;
-        }
-        local.origin = centroid;
-        local.n = normalsCancel ? Vec3(0, 0, 1) : normal;
-        orthonormalFrame(local.n, local.u, local.v);
+        double agreement = normalsCancel ? -1.0 : 1.0;
+        for (uint32_t i : near) agreement = std::min(agreement, points[i].normal.normalized().dot(normal));
+        const double scale = 1.0 / radius;  // fits in conditioned coordinates
         if (agreement >= 0.2) {
-            // Weighted least squares for h(s, t) = a s^2 + b s t + c t^2 + d s + e t + f.
-            Eigen::Matrix<double, 6, 6> A = Eigen::Matrix<double, 6, 6>::Zero();
+            // A height function over the mean plane: h(s, t) = a s^2 + b s t + c t^2 + d s + e t + f.
+            Vec3 u, v;
+            orthonormalFrame(normal, u, v);
+            Eigen::Matrix<double, 6, 6> M = Eigen::Matrix<double, 6, 6>::Zero();
             Eigen::Matrix<double, 6, 1> rhs = Eigen::Matrix<double, 6, 1>::Zero();
-            const double scale = 1.0 / radius;  // conditioned coordinates
             for (uint32_t i : near) {
-                const Vec3 q = (points[i].position - local.origin) * scale;
-                const double s = q.dot(local.u), t = q.dot(local.v), h = q.dot(local.n);
-                const double w = std::max(weightOf((points[i].position - cell.center).squaredNorm(), radius2), 1e-12);
+                const Vec3 q = (points[i].position - centroid) * scale;
+                const double s = q.dot(u), t = q.dot(v), h = q.dot(normal), w = weightAt(i);
                 Eigen::Matrix<double, 6, 1> row;
                 row << s * s, s * t, t * t, s, t, 1.0;
-                A += w * row * row.transpose();
+                M += w * row * row.transpose();
                 rhs += w * h * row;
             }
-            A.diagonal().array() += 1e-9 * std::max(A.trace(), 1e-300);
-            const Eigen::Matrix<double, 6, 1> x = A.ldlt().solve(rhs);
-            // Back to world units: h = radius * H(s/radius, t/radius).
-            local.a = x[0] / radius;
-            local.b = x[1] / radius;
-            local.c = x[2] / radius;
-            local.d = x[3];
-            local.e = x[4];
-            local.f = x[5] * radius;
-            if (!x.allFinite()) local.a = local.b = local.c = local.d = local.e = local.f = 0.0;
+            M.diagonal().array() += 1e-9 * std::max(M.trace(), 1e-300);
+            Eigen::Matrix<double, 6, 1> x = M.ldlt().solve(rhs);
+            if (!x.allFinite()) x.setZero();
+            // Q(y) = n.y - h(u.y, v.y) in world units: h = radius H(s/radius, t/radius).
+            const double a = x[0] / radius, b = x[1] / radius, c = x[2] / radius;
+            local.A = -(a * u * u.transpose() + 0.5 * b * (u * v.transpose() + v * u.transpose()) + c * v * v.transpose());
+            local.g = normal - x[3] * u - x[4] * v;
+            local.c0 = -x[5] * radius;
         } else {
-            ++r.planes;  // the deepest level and still disagreeing: the mean plane
+            // A general quadric: zero at the points, +delta and -delta at
+            // auxiliary points delta along and against their normals.
+            ++r.generalQuadrics;
+            Eigen::Matrix<double, 10, 10> M = Eigen::Matrix<double, 10, 10>::Zero();
+            Eigen::Matrix<double, 10, 1> rhs = Eigen::Matrix<double, 10, 1>::Zero();
+            const double delta = 0.1;  // in conditioned units: a tenth of the ball's radius
+            for (uint32_t i : near) {
+                const Vec3 q = (points[i].position - centroid) * scale, n = points[i].normal.normalized();
+                const double w = weightAt(i);
+                for (int side = -1; side <= 1; ++side) {
+                    const Vec3 y = q + side * delta * n;
+                    Eigen::Matrix<double, 10, 1> row;
+                    row << y.x() * y.x(), y.y() * y.y(), y.z() * y.z(), 2 * y.x() * y.y(), 2 * y.x() * y.z(),
+                        2 * y.y() * y.z(), y.x(), y.y(), y.z(), 1.0;
+                    M += w * row * row.transpose();
+                    rhs += w * (side * delta) * row;
+                }
+            }
+            M.diagonal().array() += 1e-9 * std::max(M.trace(), 1e-300);
+            Eigen::Matrix<double, 10, 1> x = M.ldlt().solve(rhs);
+            if (!x.allFinite()) x.setZero();
+            // Back to world units: Q(y) = radius Qc(y / radius).
+            Mat3 A;
+            A << x[0], x[3], x[4], x[3], x[1], x[5], x[4], x[5], x[2];
+            local.A = A / radius;
+            local.g = Vec3(x[6], x[7], x[8]);
+            local.c0 = x[9] * radius;
         }
         double error = 0;
         for (uint32_t i : near) {

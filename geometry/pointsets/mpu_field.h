@@ -6,9 +6,12 @@
 //
 //   f(x) = sum_i w_i(x) Q_i(x) / sum_i w_i(x),  w_i(x) = (1 - |x - c_i|^2 / R_i^2)^3.
 //
-// Local functions are quadratic height functions over the points' mean
-// plane (the paper's bivariate quadratic), or that plane alone where the
-// normals disagree at the deepest level. Negative inside, as every field.
+// Local functions are the paper's two smooth kinds: a quadratic height
+// function over the points' mean plane where the normals agree, and a
+// general quadric (fitted to the points and to auxiliary points along their
+// normals) where they do not: thin parts, both sides of a sheet, folds.
+// The edge and corner functions of sharp features are not built: sharp
+// edges come out rounded at the accuracy asked for. Negative inside.
 //
 // Bounds for sphere tracing are proven, not sampled: over a box, f is a
 // convex combination of the Q_i whose supports reach it, so its range lies
@@ -26,6 +29,7 @@
 
 #include "geometry/bounding_box.h"
 #include "geometry/interval.h"
+#include "geometry/vector_types.h"
 
 namespace isotrace::geometry {
 
@@ -47,7 +51,7 @@ struct MpuOptions {
 
 struct MpuReport {
     size_t localFunctions = 0;
-    size_t planes = 0;  ///< cells that fell back to a plane
+    size_t generalQuadrics = 0;  ///< cells where normals disagree
     int depth = 0;
     double maxError = 0.0;  ///< of the points against their local fits, relative to the diagonal
     double seconds = 0.0;
@@ -68,11 +72,15 @@ public:
     size_t termCount() const { return typicalTerms_; }
 
 private:
+    /// A quadric Q(x) = c0 + g . y + y^T A y in y = x - origin: either a
+    /// height function over a plane (converted) or a general quadric.
     struct Local {
         Vec3 center;
         double radius = 0;
-        Vec3 origin, u, v, n;  ///< frame of the height function; n outward
-        double a = 0, b = 0, c = 0, d = 0, e = 0, f = 0;  ///< h = a s^2 + b s t + c t^2 + d s + e t + f
+        Vec3 origin = Vec3::Zero();
+        Mat3 A = Mat3::Zero();
+        Vec3 g = Vec3::Zero();
+        double c0 = 0;
         double evaluate(const Vec3& x, Vec3* gradient) const;
         Interval range(const Box3& box) const;
         double gradientBound(const Box3& box) const;
