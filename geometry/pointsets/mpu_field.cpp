@@ -248,7 +248,6 @@ MpuField MpuField::fit(const std::vector<MpuPoint>& points, const MpuOptions& op
             subdivide();
             continue;
         }
-        r.maxError = std::max(r.maxError, error / diagonal);
         field.locals_.push_back(local);
     }
 
@@ -287,6 +286,12 @@ MpuField MpuField::fit(const std::vector<MpuPoint>& points, const MpuOptions& op
     field.minimumWeight_ = std::pow(1.0 - t * t, 3);
     field.backgroundMargin_ = 1e-3 * diagonal;
 
+    // The fit's error: the blended field's first-order distance at the input.
+    for (const MpuPoint& p : points) {
+        Vec3 g;
+        const double value = field.valueAndGradient(p.position, g);
+        r.maxError = std::max(r.maxError, std::abs(value) / std::max(g.norm(), 1e-300) / diagonal);
+    }
     r.localFunctions = field.locals_.size();
     r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (report) *report = r;

@@ -53,7 +53,7 @@ struct MpuReport {
     size_t localFunctions = 0;
     size_t generalQuadrics = 0;  ///< cells where normals disagree
     int depth = 0;
-    double maxError = 0.0;  ///< of the points against their local fits, relative to the diagonal
+    double maxError = 0.0;  ///< of the blended field at the input points, relative to their diagonal
     double seconds = 0.0;
 };
 
