@@ -1,5 +1,7 @@
 #include "renderer/field_hosting.h"
 
+#include "geometry/input_error.h"
+
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -25,6 +27,14 @@ geometry::FieldLibraryOptions printingFieldOptions() {
         std::fprintf(stderr, "warning: %s: %s: %s\n", file.c_str(), pointer.c_str(), message.c_str());
     };
     return options;
+}
+
+geometry::FieldProgram compileSceneField(const std::string& scenePath, const std::string& field) {
+    const geometry::Json root = geometry::parseJsonFile(scenePath);
+    if (!root.is_object() || !root.contains("fields"))
+        throw geometry::InputError(scenePath, "/fields", "the scene has no \"fields\"");
+    const geometry::FieldLibrary library(root.at("fields"), "/fields", scenePath, printingFieldOptions());
+    return library.compile(field);
 }
 
 }  // namespace isotrace

@@ -17,5 +17,9 @@ std::string userCacheDirectory();
 std::shared_ptr<geometry::FitCache> processFitCache();
 /// The process's fit cache, and warnings printed as "warning: FILE: WHERE: ...".
 geometry::FieldLibraryOptions printingFieldOptions();
+/// A named field of a scene file's "fields", compiled (for commands that
+/// work on one field). Unknown names fail at "/fields" with the nearest
+/// name suggested.
+geometry::FieldProgram compileSceneField(const std::string& scenePath, const std::string& field);
 
 }  // namespace isotrace

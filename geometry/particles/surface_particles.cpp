@@ -323,9 +323,6 @@ ParticleSampling spreadParticles(const FieldProgram& field, const ParticleOption
     if (!std::isfinite(options.spacing)) throw std::invalid_argument("the spacing must be a finite number");
     const Box3 bounds = field.bounds();
     if (!bounds.isFinite()) throw std::invalid_argument("the field is unbounded: give it \"bounds\"");
-    const double diagonal = bounds.extent().norm();
-    const double tolerance = 1e-9 * diagonal;
-
     // Search the surface.
     PolygonizeOptions polygonizeOptions;
     polygonizeOptions.resolution = 128;

@@ -27,12 +27,8 @@ int runPolygonize(const PolygonizeCommand& cmd) {
     if (!isMeshExtension(cmd.output))
         throw geometry::InputError(cmd.output, "", "unknown mesh format (use .ply, .obj or .off)");
     checkOutputPath(cmd.output, {cmd.scene});
-    const geometry::Json root = geometry::parseJsonFile(cmd.scene);
-    if (!root.is_object() || !root.contains("fields"))
-        throw geometry::InputError(cmd.scene, "/fields", "the scene has no \"fields\"");
-    const geometry::FieldLibrary library(root.at("fields"), "/fields", cmd.scene, printingFieldOptions());
     // Unknown names fail here, at "/fields", with the nearest name suggested.
-    const geometry::FieldProgram field = library.compile(cmd.field);
+    const geometry::FieldProgram field = compileSceneField(cmd.scene, cmd.field);
     geometry::PolygonizeOptions options;
     options.method = cmd.method == "adaptive" ? geometry::PolygonizeMethod::Adaptive
                                               : geometry::PolygonizeMethod::MarchingCubes;

@@ -31,11 +31,7 @@ int runSample(const SampleCommand& cmd) {
     if ((cmd.count > 0) == (cmd.spacing > 0))
         throw geometry::InputError("command line", "", "give one of --count and --spacing");
     checkOutputPath(cmd.output, {cmd.scene});
-    const geometry::Json root = geometry::parseJsonFile(cmd.scene);
-    if (!root.is_object() || !root.contains("fields"))
-        throw geometry::InputError(cmd.scene, "/fields", "the scene has no \"fields\"");
-    const geometry::FieldLibrary library(root.at("fields"), "/fields", cmd.scene, printingFieldOptions());
-    const geometry::FieldProgram field = library.compile(cmd.field);
+    const geometry::FieldProgram field = compileSceneField(cmd.scene, cmd.field);
     geometry::ParticleOptions options;
     options.count = cmd.count;
     options.spacing = cmd.spacing;
