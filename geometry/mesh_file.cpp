@@ -15,13 +15,13 @@
 
 namespace isotrace::geometry {
 
-namespace {
-
 std::string lowercaseExtension(const std::string& path) {
     std::string e = std::filesystem::path(path).extension().string();
     for (char& c : e) c = char(std::tolower(static_cast<unsigned char>(c)));
     return e;
 }
+
+namespace {
 
 // The next line that holds something, without its comment; false at the end.
 bool contentLine(std::istream& in, std::string& line, long& number) {

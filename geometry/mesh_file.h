@@ -8,6 +8,10 @@
 
 namespace isotrace::geometry {
 
+/// A path's extension in lower case, with its dot (".ply"): what file
+/// formats are chosen by.
+std::string lowercaseExtension(const std::string& path);
+
 /// Vertices and triangles of every mesh in the file, without normals.
 /// Missing or unreadable files, non-finite coordinates, out-of-range indices
 /// and files without triangles throw InputError naming the file and place.

@@ -9,15 +9,11 @@
 #include <stdexcept>
 #include <unistd.h>
 
+#include "geometry/mesh_file.h"
+
 namespace isotrace {
 
 namespace {
-
-std::string extensionOf(const std::string& path) {
-    std::string e = std::filesystem::path(path).extension().string();
-    std::transform(e.begin(), e.end(), e.begin(), [](unsigned char c) { return std::tolower(c); });
-    return e;
-}
 
 void writeOff(const std::string& path, const geometry::IndexedMesh& mesh) {
     std::ofstream out(path);
@@ -65,12 +61,12 @@ void writeWithAssimp(const std::string& path, const geometry::IndexedMesh& mesh,
 }  // namespace
 
 bool isMeshExtension(const std::string& path) {
-    const std::string e = extensionOf(path);
+    const std::string e = geometry::lowercaseExtension(path);
     return e == ".ply" || e == ".obj" || e == ".off";
 }
 
 void writeMesh(const std::string& path, const geometry::IndexedMesh& mesh) {
-    const std::string e = extensionOf(path);
+    const std::string e = geometry::lowercaseExtension(path);
     if (!isMeshExtension(path)) throw std::runtime_error(path + ": unknown mesh format (use .ply, .obj or .off)");
     const std::filesystem::path p(path);
     const std::string temporary =

@@ -1,22 +1,15 @@
 #include "renderer/point_export.h"
 
-#include <algorithm>
 #include <cstring>
-#include <filesystem>
 #include <sstream>
 #include <stdexcept>
 
 #include "geometry/atomic_file.h"
+#include "geometry/mesh_file.h"
 
 namespace isotrace {
 
 namespace {
-
-std::string extensionOf(const std::string& path) {
-    std::string e = std::filesystem::path(path).extension().string();
-    std::transform(e.begin(), e.end(), e.begin(), [](unsigned char c) { return std::tolower(c); });
-    return e;
-}
 
 void appendFloat(std::string& bytes, double value) {
     const float f = float(value);
@@ -28,12 +21,12 @@ void appendFloat(std::string& bytes, double value) {
 }  // namespace
 
 bool isPointSetExtension(const std::string& path) {
-    const std::string e = extensionOf(path);
+    const std::string e = geometry::lowercaseExtension(path);
     return e == ".ply" || e == ".xyz";
 }
 
 void writePoints(const std::string& path, const std::vector<geometry::SurfaceParticle>& points) {
-    const std::string e = extensionOf(path);
+    const std::string e = geometry::lowercaseExtension(path);
     std::string bytes;
     if (e == ".ply") {
         bytes = "ply\nformat binary_little_endian 1.0\ncomment isotrace particles\nelement vertex " +

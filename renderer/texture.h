@@ -70,7 +70,6 @@ public:
     double at(const ShadingPoint& p) const { return texture_ ? texture_->evaluate(p)[0] : constant_; }
     double maximum() const { return texture_ ? texture_->maximum()[0] : constant_; }
     double minimum() const { return texture_ ? texture_->minimum()[0] : constant_; }
-    bool isConstant() const { return !texture_; }
 
 private:
     double constant_ = 0.0;
