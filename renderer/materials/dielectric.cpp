@@ -31,30 +31,12 @@ public:
     RGB evaluate(const ShadingPoint& p, const Vec3& woWorld, const Vec3& wiWorld) const override {
         if (smooth_) return RGB::Zero();
         const Frame frame(p.shadingNormal);
-        const Vec3 wo = frame.toLocal(woWorld), wi = frame.toLocal(wiWorld);
-        Vec3 m;
-        double eta;
-        if (!halfVector(p, wo, wi, m, eta)) return RGB::Zero();
-        const TrowbridgeReitz d = distribution(p);
-        const double F = fresnelDielectric(wo.dot(m), eta);
-        if (wi.z() > 0) return RGB::Constant(d.D(m) * d.G(wo, wi) * F / (4.0 * wo.z() * wi.z()));
-        const double denominator = square(wi.dot(m) + wo.dot(m) / eta);
-        const double value = d.D(m) * d.G(wo, wi) * (1.0 - F) * std::abs(wi.dot(m) * wo.dot(m)) /
-                             (std::abs(wi.z() * wo.z()) * denominator) / (eta * eta);
-        return transmittance_.at(p) * value;
+        return roughLobe(p, frame.toLocal(woWorld), frame.toLocal(wiWorld), distribution(p)).value;
     }
     double pdf(const ShadingPoint& p, const Vec3& woWorld, const Vec3& wiWorld) const override {
         if (smooth_) return 0.0;
         const Frame frame(p.shadingNormal);
-        const Vec3 wo = frame.toLocal(woWorld), wi = frame.toLocal(wiWorld);
-        Vec3 m;
-        double eta;
-        if (!halfVector(p, wo, wi, m, eta)) return 0.0;
-        const TrowbridgeReitz d = distribution(p);
-        const double F = fresnelDielectric(wo.dot(m), eta);
-        if (wi.z() > 0) return d.visibleD(wo, m) / (4.0 * std::abs(wo.dot(m))) * F;
-        const double denominator = square(wi.dot(m) + wo.dot(m) / eta);
-        return d.visibleD(wo, m) * std::abs(wi.dot(m)) / denominator * (1.0 - F);
+        return roughLobe(p, frame.toLocal(woWorld), frame.toLocal(wiWorld), distribution(p)).pdf;
     }
     std::optional<BSDFSample> sample(const ShadingPoint& p, const Vec3& woWorld, Sampler& sampler) const override {
         const double uChoice = sampler.get1D();
@@ -90,11 +72,14 @@ public:
             if (!t || !(t->z() < 0)) return std::nullopt;
             wi = *t;
         }
+        // Value and density of the pair in one pass, with this frame and
+        // distribution (the roughness texture looked up once).
+        const RoughLobe lobe = roughLobe(p, wo, wi, d);
+        if (!(lobe.pdf > 0)) return std::nullopt;
         BSDFSample s;
         s.wi = frame.toWorld(wi);
-        s.pdf = pdf(p, woWorld, s.wi);
-        if (!(s.pdf > 0)) return std::nullopt;
-        s.weight = evaluate(p, woWorld, s.wi) * (std::abs(wi.z()) / s.pdf);
+        s.pdf = lobe.pdf;
+        s.weight = lobe.value * (std::abs(wi.z()) / s.pdf);
         s.etaRatio = wi.z() < 0 ? eta : 1.0;
         return s;
     }
@@ -136,6 +121,29 @@ private:
         const double alpha =
             std::max(TrowbridgeReitz::alphaFromRoughness(roughness_.at(p)), TrowbridgeReitz::kSmoothAlpha);
         return TrowbridgeReitz(alpha, alpha);
+    }
+    struct RoughLobe {
+        RGB value = RGB::Zero();  ///< f(wo, wi)
+        double pdf = 0.0;
+    };
+    /// f and the sampling density of a rough pair, in the local frame.
+    RoughLobe roughLobe(const ShadingPoint& p, const Vec3& wo, const Vec3& wi, const TrowbridgeReitz& d) const {
+        RoughLobe lobe;
+        Vec3 m;
+        double eta;
+        if (!halfVector(p, wo, wi, m, eta)) return lobe;
+        const double F = fresnelDielectric(wo.dot(m), eta);
+        if (wi.z() > 0) {
+            lobe.value = RGB::Constant(d.D(m) * d.G(wo, wi) * F / (4.0 * wo.z() * wi.z()));
+            lobe.pdf = d.visibleD(wo, m) / (4.0 * std::abs(wo.dot(m))) * F;
+            return lobe;
+        }
+        const double denominator = square(wi.dot(m) + wo.dot(m) / eta);
+        const double value = d.D(m) * d.G(wo, wi) * (1.0 - F) * std::abs(wi.dot(m) * wo.dot(m)) /
+                             (std::abs(wi.z() * wo.z()) * denominator) / (eta * eta);
+        lobe.value = transmittance_.at(p) * value;
+        lobe.pdf = d.visibleD(wo, m) * std::abs(wi.dot(m)) / denominator * (1.0 - F);
+        return lobe;
     }
     /// The microfacet normal taking wo to wi (by reflection or refraction),
     /// facing wo's side; false for pairs no facet connects.

@@ -34,20 +34,12 @@ public:
 
     RGB evaluate(const ShadingPoint& p, const Vec3& woWorld, const Vec3& wiWorld) const override {
         const Frame frame(p.shadingNormal);
-        const Vec3 wo = frame.toLocal(woWorld), wi = frame.toLocal(wiWorld);
-        if (!(wo.z() > 0 && wi.z() > 0)) return RGB::Zero();
-        RGB f = diffuse(p, wo, wi);
-        if (!smooth_) f += RGB::Constant(specular(p, wo, wi));
-        return f;
+        return valueLocal(p, frame.toLocal(woWorld), frame.toLocal(wiWorld));
     }
     double pdf(const ShadingPoint& p, const Vec3& woWorld, const Vec3& wiWorld) const override {
         const Frame frame(p.shadingNormal);
-        const Vec3 wo = frame.toLocal(woWorld), wi = frame.toLocal(wiWorld);
-        if (!(wo.z() > 0 && wi.z() > 0)) return 0.0;
-        const double pSpecular = specularProbability(p, wo);
-        double density = (1.0 - pSpecular) * wi.z() / std::numbers::pi;
-        if (!smooth_) density += pSpecular * specularPdf(p, wo, wi);
-        return density;
+        const Vec3 wo = frame.toLocal(woWorld);
+        return wo.z() > 0 ? pdfLocal(p, wo, frame.toLocal(wiWorld), specularProbability(p, wo)) : 0.0;
     }
     std::optional<BSDFSample> sample(const ShadingPoint& p, const Vec3& woWorld, Sampler& sampler) const override {
         const Frame frame(p.shadingNormal);
@@ -71,9 +63,11 @@ public:
         }
         const double cosTheta = p.shadingNormal.dot(s.wi);
         if (!(cosTheta > 0)) return std::nullopt;
-        s.pdf = pdf(p, woWorld, s.wi);
+        // In this frame, with the probability already found.
+        const Vec3 wi = frame.toLocal(s.wi);
+        s.pdf = pdfLocal(p, wo, wi, pSpecular);
         if (!(s.pdf > 0)) return std::nullopt;
-        s.weight = evaluate(p, woWorld, s.wi) * (cosTheta / s.pdf);
+        s.weight = valueLocal(p, wo, wi) * (cosTheta / s.pdf);
         return s;
     }
     int deltaLobes(const ShadingPoint& p, const Vec3& wo, BSDFSample lobes[2]) const override {
@@ -87,6 +81,18 @@ public:
     RGB albedo(const ShadingPoint& p) const override { return albedo_.at(p); }
 
 private:
+    RGB valueLocal(const ShadingPoint& p, const Vec3& wo, const Vec3& wi) const {
+        if (!(wo.z() > 0 && wi.z() > 0)) return RGB::Zero();
+        RGB f = diffuse(p, wo, wi);
+        if (!smooth_) f += RGB::Constant(specular(p, wo, wi));
+        return f;
+    }
+    double pdfLocal(const ShadingPoint& p, const Vec3& wo, const Vec3& wi, double pSpecular) const {
+        if (!(wo.z() > 0 && wi.z() > 0)) return 0.0;
+        double density = (1.0 - pSpecular) * wi.z() / std::numbers::pi;
+        if (!smooth_) density += pSpecular * specularPdf(p, wo, wi);
+        return density;
+    }
     TrowbridgeReitz distribution(const ShadingPoint& p) const {
         const double alpha =
             std::max(TrowbridgeReitz::alphaFromRoughness(roughness_.at(p)), TrowbridgeReitz::kSmoothAlpha);
