@@ -78,6 +78,16 @@ TEST(MaterialErrors, Textures) {
                 "/materials/m/albedo/scale", "greater than 0");
     expectError(folder, R"({"type": "diffuse", "albedo": {"type": "checker", "colour": [0, 1]}})",
                 "/materials/m/albedo/colour", "unknown key");
+    expectError(folder, R"({"type": "diffuse", "albedo": {"type": "noise", "octaves": 0}})",
+                "/materials/m/albedo/octaves", "between 1 and 16");
+    expectError(folder, R"({"type": "diffuse", "albedo": {"type": "noise", "colors": [0.1]}})",
+                "/materials/m/albedo/colors", "two values");
+    expectError(folder, R"({"type": "diffuse", "albedo": {"type": "image", "file": "x.exr", "sharpness": 100}})",
+                "/materials/m/albedo/sharpness", "at most 64");
+    expectError(folder, R"({"type": "diffuse", "albedo": {"type": "field_ramp", "field": "ball", "quantity": "gauss", "ramp": [[0, 0], [1, 1]]}})",
+                "/materials/m/albedo/quantity", "mean_curvature");
+    expectError(folder, R"({"type": "diffuse", "albedo": {"type": "field_ramp", "field": "ball", "ramp": [[0, 0]]}})",
+                "/materials/m/albedo/ramp", "at least two stops");
     expectError(folder, R"({"type": "diffuse", "albedo": {"type": "image", "file": "missing.exr"}})",
                 "/materials/m/albedo/file", "no such file");
     expectError(folder, R"({"type": "diffuse", "albedo": {"type": "field_ramp", "field": "bal", "ramp": [[0, 0], [1, 1]]}})",
