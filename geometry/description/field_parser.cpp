@@ -509,7 +509,35 @@ FieldLibrary::FieldLibrary(const Json& fields, std::string pointer, std::string 
     : fields_(fields), pointer_(std::move(pointer)), file_(std::move(file)), options_(std::move(options)) {
     if (!options_.fitCache) options_.fitCache = std::make_shared<FitCache>();
     if (!fields_.is_object()) throw InputError(file_, pointer_, "expected an object mapping field names to descriptions");
+    checkShapes();
     checkForCycles();
+}
+
+void FieldLibrary::checkShapes() const {
+    // Only the fields objects use are compiled (an unused fit costs
+    // nothing), but every entry must at least be a field: a description with
+    // a known type or the name of another field.
+    const std::vector<std::string> types = typeNames();
+    for (auto it = fields_.begin(); it != fields_.end(); ++it) {
+        const std::string at = jsonPointerAppend(pointer_, it.key());
+        const Json& entry = it.value();
+        if (entry.is_string()) {
+            if (!fields_.contains(entry.get<std::string>()))
+                throw InputError(file_, at, "unknown field \"" + entry.get<std::string>() + "\"");
+            continue;
+        }
+        if (!entry.is_object())
+            throw InputError(file_, at, "expected a field description (an object with a \"type\") or a field name");
+        const auto type = entry.find("type");
+        if (type == entry.end()) throw InputError(file_, at, "missing key \"type\"; valid types: " + joinNames(types));
+        if (!type->is_string()) throw InputError(file_, jsonPointerAppend(at, "type"), "expected a string");
+        const std::string name = type->get<std::string>();
+        if (std::find(types.begin(), types.end(), name) == types.end()) {
+            std::string message = "unknown field type \"" + name + "\"";
+            if (auto near = nearestName(name, types)) message += " (did you mean \"" + *near + "\"?)";
+            throw InputError(file_, jsonPointerAppend(at, "type"), message + "; valid types: " + joinNames(types));
+        }
+    }
 }
 
 namespace {
@@ -600,10 +628,6 @@ std::vector<std::string> FieldLibrary::typeNames() {
     std::vector<std::string> out;
     for (const auto& [name, factory] : registry()) out.push_back(name);
     return out;
-}
-
-void FieldLibrary::validateAll() const {
-    for (const std::string& name : names()) compile(name);
 }
 
 }  // namespace isotrace::geometry

@@ -45,12 +45,14 @@ public:
 
     /// The registered field type names.
     static std::vector<std::string> typeNames();
-    /// Checks every named field (compiles each once).
-    void validateAll() const;
+
+private:
+    /// Fails on an entry that is neither a description with a known type
+    /// nor the name of another field, used or not.
+    void checkShapes() const;
     /// Fails on a cycle among the fields, used or not (names the chain).
     void checkForCycles() const;
 
-private:
     Json fields_ = Json::object();
     std::string pointer_;
     std::string file_;

@@ -36,6 +36,9 @@ size_t editDistance(const std::string& a, const std::string& b) {
     return row[b.size()];
 }
 
+
+}  // namespace
+
 std::string joinNames(std::vector<std::string> names) {
     std::sort(names.begin(), names.end());
     names.erase(std::unique(names.begin(), names.end()), names.end());
@@ -43,8 +46,6 @@ std::string joinNames(std::vector<std::string> names) {
     for (const std::string& n : names) s += (s.empty() ? "" : ", ") + ("\"" + n + "\"");
     return s;
 }
-
-}  // namespace
 
 namespace {
 std::string lineAndColumn(const std::string& text, size_t offset) {

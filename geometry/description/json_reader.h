@@ -27,6 +27,9 @@ Json parseJsonText(const std::string& text, const std::string& sourceName);
 std::string jsonPointerAppend(const std::string& pointer, const std::string& key);
 std::string jsonPointerAppend(const std::string& pointer, size_t index);
 
+/// The names quoted, sorted, without repeats, separated by commas.
+std::string joinNames(std::vector<std::string> names);
+
 /// Name among `candidates` closest to `name` by edit distance, if close enough.
 std::optional<std::string> nearestName(const std::string& name, const std::vector<std::string>& candidates);
 

@@ -148,15 +148,31 @@ VariationalSource readVariationalSource(JsonObjectReader& r, VariationalContext&
     // Oriented points from files, sampled fields and inline "normals".
     const std::vector<OrientedPoint> oriented = readOrientedPointSources(r, context, provenance);
     const bool hermite = r.boolean("hermite", false);
-    const double offset = r.has("normal_offset") ? r.positiveNumber("normal_offset") : defaultNormalOffset(oriented);
+    ConstraintSet explicitRows;
+    for (const auto& v : rows(r, "boundary", 3, "[x, y, z] rows")) explicitRows.addBoundary(vec(v, 0));
+    for (const auto& v : rows(r, "interior", 3, "[x, y, z] rows")) explicitRows.addInterior(vec(v, 0));
+    for (const auto& v : rows(r, "exterior", 3, "[x, y, z] rows")) explicitRows.addExterior(vec(v, 0));
+    for (const auto& v : rows(r, "values", 4, "[x, y, z, value] rows")) explicitRows.values.push_back({vec(v, 0), v[3]});
+    for (const auto& v : rows(r, "gradients", 6, "[x, y, z, gx, gy, gz] rows"))
+        explicitRows.gradients.push_back({vec(v, 0), vec(v, 3)});
+    // The default offset scales with everything constrained, so a single
+    // oriented point among explicit rows still gets a usable offset.
+    double offset = 0;
+    if (r.has("normal_offset")) {
+        offset = r.positiveNumber("normal_offset");
+    } else {
+        Box3 box = explicitRows.bounds();
+        for (const OrientedPoint& p : oriented) box.extend(p.position);
+        offset = oriented.empty() ? 0.0 : 0.01 * box.extent().norm();
+        if (!oriented.empty() && !(offset > 0))
+            r.fail(r.has("normals") ? "normals" : r.has("points") ? "points" : r.has("mesh") ? "mesh" : "sample",
+                   "all constraints lie at one point, so there is no default normal_offset; give one");
+    }
     source.constraints = constraintsFromOrientedPoints(oriented, offset, hermite);
 
     ConstraintSet& c = source.constraints;
-    for (const auto& v : rows(r, "boundary", 3, "[x, y, z] rows")) c.addBoundary(vec(v, 0));
-    for (const auto& v : rows(r, "interior", 3, "[x, y, z] rows")) c.addInterior(vec(v, 0));
-    for (const auto& v : rows(r, "exterior", 3, "[x, y, z] rows")) c.addExterior(vec(v, 0));
-    for (const auto& v : rows(r, "values", 4, "[x, y, z, value] rows")) c.values.push_back({vec(v, 0), v[3]});
-    for (const auto& v : rows(r, "gradients", 6, "[x, y, z, gx, gy, gz] rows")) c.gradients.push_back({vec(v, 0), vec(v, 3)});
+    c.values.insert(c.values.end(), explicitRows.values.begin(), explicitRows.values.end());
+    c.gradients.insert(c.gradients.end(), explicitRows.gradients.begin(), explicitRows.gradients.end());
     source.options.domainMargin = r.has("margin") ? r.positiveNumber("margin") : source.options.domainMargin;
 
     // Blending (Turk and O'Brien 2002, section 6): each operand keeps the
