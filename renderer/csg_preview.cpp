@@ -16,6 +16,7 @@
 #include "renderer/image_output.h"
 #include "renderer/render.h"
 #include "renderer/scene_builder.h"
+#include "renderer/scene_loader.h"
 
 namespace isotrace {
 
@@ -225,7 +226,7 @@ std::string defaultPreviewPath(const std::string& scene, const std::string& fiel
 void runPreview(const PreviewCommand& c) {
     const auto start = std::chrono::steady_clock::now();
     const std::string output = c.output.empty() ? defaultPreviewPath(c.scene, c.field, !c.section.empty()) : c.output;
-    checkOutputPath(output, {c.scene});
+    checkOutputPath(output, sceneInputFiles(c.scene));
 
     const Json root = geometry::parseJsonFile(c.scene);
     if (!root.is_object() || !root.contains("fields") || !root["fields"].is_object())

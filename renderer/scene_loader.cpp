@@ -3,9 +3,11 @@
 #include <Eigen/Geometry>
 #include <cmath>
 #include <filesystem>
+#include <iomanip>
 #include <limits>
 #include <map>
 #include <numbers>
+#include <sstream>
 #include <unistd.h>
 
 #include "geometry/description/field_parser.h"
@@ -92,8 +94,8 @@ private:
         cam.aperture = c.number("aperture", 0.0);
         if (cam.aperture < 0) c.fail("aperture", "must not be negative");
         if (cam.aperture > kMaxCoordinate) c.fail("aperture", "beyond 1e15 cannot be represented by single-precision rays");
-        cam.focusDistance = c.number("focus_distance", 0.0);
-        if (cam.focusDistance < 0) c.fail("focus_distance", "must not be negative");
+        // 0 stands for the default, the distance from "from" to "to".
+        cam.focusDistance = c.has("focus_distance") ? c.positiveNumber("focus_distance") : 0.0;
         if (cam.focusDistance > kMaxCoordinate)
             c.fail("focus_distance", "beyond 1e15 cannot be represented by single-precision rays");
         if (!((cam.to - cam.from).norm() > 0)) c.fail("to", "must differ from \"from\"");
@@ -179,6 +181,20 @@ private:
         return *index;
     }
 
+    /// A field an object shows, whose surface must fit single-precision rays.
+    geometry::FieldProgram compileShown(const std::string& field) {
+        geometry::FieldProgram program = fields_.compile(field);
+        const geometry::Box3& box = program.bounds();
+        const double reach = std::max(box.lower.cwiseAbs().maxCoeff(), box.upper.cwiseAbs().maxCoeff());
+        if (std::isfinite(reach) && reach > kMaxCoordinate && !box.isEmpty()) {
+            std::ostringstream message;
+            message << "its surface may reach " << std::setprecision(3) << reach
+                    << " from the origin; beyond 1e15 single-precision rays cannot represent it";
+            throw InputError(path_, jsonPointerAppend("/fields", field), message.str());
+        }
+        return program;
+    }
+
     void validateMesh(TriangleMesh& mesh, JsonObjectReader& r, const std::string& key) {
         const bool drop = r.boolean("drop_degenerate", false);
         for (size_t i = 0; i < mesh.indices.size(); ++i)
@@ -251,7 +267,7 @@ private:
                 o.kind = SceneObject::Kind::Implicit;
                 auto it = surfaceIndex_.find(field);
                 if (it == surfaceIndex_.end()) {
-                    geometry::FieldProgram program = fields_.compile(field);
+                    geometry::FieldProgram program = compileShown(field);
                     std::unique_ptr<geometry::ImplicitSurface> surface;
                     try {
                         surface = std::make_unique<geometry::ImplicitSurface>(std::move(program));
@@ -311,7 +327,7 @@ private:
         if (const auto it = discIndex_.find(key); it != discIndex_.end()) return it->second;
         geometry::ParticleSampling sampling;
         try {
-            sampling = geometry::spreadParticles(fields_.compile(field), options);
+            sampling = geometry::spreadParticles(compileShown(field), options);
         } catch (const std::invalid_argument& e) {
             r.failHere(std::string("cannot spread particles on field \"") + field + "\": " + e.what());
         }
@@ -333,7 +349,7 @@ private:
         if (const auto it = meshIndex_.find(key); it != meshIndex_.end()) return it->second;
         geometry::Polygonization result;
         try {
-            result = geometry::polygonize(fields_.compile(field), options);
+            result = geometry::polygonize(compileShown(field), options);
         } catch (const std::invalid_argument& e) {
             r.failHere(std::string("cannot polygonize field \"") + field + "\": " + e.what());
         }
@@ -377,6 +393,36 @@ std::unique_ptr<Scene> loadScene(const std::string& path, const SceneOverrides& 
 std::unique_ptr<Scene> loadSceneDescription(const geometry::Json& root, const std::string& path,
                                             const SceneOverrides& overrides) {
     return SceneLoader(path, overrides).load(root);
+}
+
+std::vector<std::string> sceneInputFiles(const std::string& path) {
+    std::vector<std::string> files{path};
+    Json root;
+    try {
+        root = geometry::parseJsonFile(path);
+    } catch (const std::exception&) {
+        return files;
+    }
+    // Any string that names an existing file beside the scene is taken for
+    // an input: file keys differ by type, and a false match only refuses
+    // an output name that would have shadowed a file anyway. An explicit
+    // stack: the depth of a scene file is the user's.
+    const std::filesystem::path directory = std::filesystem::absolute(path).parent_path();
+    std::vector<const Json*> pending{&root};
+    while (!pending.empty()) {
+        const Json* j = pending.back();
+        pending.pop_back();
+        if (j->is_string()) {
+            std::filesystem::path named(j->get<std::string>());
+            if (named.empty()) continue;
+            if (named.is_relative()) named = directory / named;
+            std::error_code ec;
+            if (std::filesystem::is_regular_file(named, ec)) files.push_back(named.string());
+        } else if (j->is_structured()) {
+            for (const Json& child : *j) pending.push_back(&child);
+        }
+    }
+    return files;
 }
 
 }  // namespace isotrace

@@ -27,4 +27,9 @@ std::unique_ptr<Scene> loadScene(const std::string& path, const SceneOverrides& 
 std::unique_ptr<Scene> loadSceneDescription(const geometry::Json& root, const std::string& path,
                                             const SceneOverrides& overrides = {});
 
+/// The scene file and every existing file it names (meshes, images, point
+/// sets, saved fits): the files no output of a command on it may replace.
+/// A file that cannot be parsed yields just itself; loading reports why.
+std::vector<std::string> sceneInputFiles(const std::string& path);
+
 }  // namespace isotrace

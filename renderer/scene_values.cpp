@@ -16,6 +16,8 @@ RGB readColor(JsonObjectReader& r, const std::string& key, const RGB& fallback, 
     if (!r.has(key)) return fallback;
     const geometry::Vec3 v = r.vec3(key);
     if (nonNegative && (v.array() < 0).any()) r.fail(key, "colour components must not be negative");
+    // Radiance is summed in single precision: far below its 3.4e38 limit.
+    if (!(v.cwiseAbs().maxCoeff() <= 1e30)) r.fail(key, "colour components above 1e30 overflow single-precision sums");
     return v.array();
 }
 

@@ -54,8 +54,12 @@ ScalarParameter readScalarParameter(JsonObjectReader& r, const std::string& key,
     ScalarParameter parameter;
     if (j->is_object()) {
         std::shared_ptr<const Texture> texture = readTexture(r, key, context);
-        if (texture->channels() != 1)
-            r.fail(key, "a texture for a number must have one channel; this one has " + std::to_string(texture->channels()));
+        if (texture->channels() != 1) {
+            const Json* file = j->contains("file") ? &j->at("file") : nullptr;
+            r.fail(key, "a texture for a number must have one channel; " +
+                            (file && file->is_string() ? "the image \"" + file->get<std::string>() + "\"" : std::string("this one")) +
+                            " has " + std::to_string(texture->channels()));
+        }
         parameter = ScalarParameter(std::move(texture));
     } else {
         parameter = ScalarParameter(JsonObjectReader::asNumber(*j, r.pointerOf(key), r.file()));

@@ -293,6 +293,7 @@ uint32_t makeBlobby(Compiler& c, JsonObjectReader& r, const LeafPlacement& p) {
     const std::string kernel = r.choice("kernel", {"blinn", "metaball", "soft"}, "metaball");
     f.kernel = kernel == "blinn" ? BlobKernel::Blinn : kernel == "soft" ? BlobKernel::SoftObject : BlobKernel::Metaball;
     f.threshold = r.positiveNumber("threshold", 0.5);
+    if (kernel != "blinn" && r.has("blobbiness")) r.fail("blobbiness", "applies to the \"blinn\" kernel only");
     f.blobbiness = r.positiveNumber("blobbiness", 4.0);
     const Json& blobs = r.value("blobs");
     const std::string pointer = r.pointerOf("blobs");

@@ -97,6 +97,7 @@ std::vector<OrientedPoint> pointsFromFile(JsonObjectReader& r, const char* key, 
             repair = weldCoincidentVertices(m);
             if (m.triangles.empty()) throw InputError(path, "", "every triangle is degenerate");
             points = orientedPointsOfMesh(m);
+            checkPointsOutlineASolid(points, path);
         } else {
             points = readOrientedPoints(path);
         }

@@ -1,5 +1,7 @@
 #include "geometry/variational/constraints.h"
 
+#include <Eigen/Eigenvalues>
+
 #include <cmath>
 #include <fstream>
 #include <sstream>
@@ -17,6 +19,10 @@ Box3 ConstraintSet::bounds() const {
 }
 
 std::vector<OrientedPoint> readOrientedPoints(const std::string& path) {
+    const std::string extension = lowercaseExtension(path);
+    if (extension != ".xyz" && extension != ".pwn" && extension != ".pts")
+        throw InputError(path, "", "unknown point-set format \"" + extension +
+                                       "\"; oriented points are read from .xyz, .pwn or .pts text (x y z nx ny nz per line)");
     std::ifstream in(path);
     if (!in) throw InputError(path, "", "cannot open the oriented point set");
     std::vector<OrientedPoint> points;
@@ -40,7 +46,26 @@ std::vector<OrientedPoint> readOrientedPoints(const std::string& path) {
         points.push_back({Vec3(v[0], v[1], v[2]), normal.normalized()});
     }
     if (points.empty()) throw InputError(path, "", "the oriented point set is empty");
+    checkPointsOutlineASolid(points, path);
+    if (points.size() < kMinimumOrientedPoints)
+        throw InputError(path, "", "only " + std::to_string(points.size()) + " points; a surface needs at least " +
+                                       std::to_string(kMinimumOrientedPoints));
     return points;
+}
+
+void checkPointsOutlineASolid(const std::vector<OrientedPoint>& points, const std::string& file) {
+    // The spread of the points about their mean: no spread along some axis
+    // means a plane, a line or a single place.
+    Vec3 mean = Vec3::Zero();
+    for (const OrientedPoint& p : points) mean += p.position;
+    mean /= double(points.size());
+    Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
+    for (const OrientedPoint& p : points) covariance += (p.position - mean) * (p.position - mean).transpose();
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> spread(covariance / double(points.size()));
+    const Eigen::Vector3d deviation = spread.eigenvalues().cwiseMax(0.0).cwiseSqrt();  // ascending
+    if (!(deviation[0] > 1e-6 * deviation[2]))
+        throw InputError(file, "", "all " + std::to_string(points.size()) +
+                                       " points lie in one plane (or on a line, or at one place): they cannot outline a solid");
 }
 
 std::vector<OrientedPoint> orientedPointsOfMesh(const IndexedMesh& mesh) {

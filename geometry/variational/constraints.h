@@ -51,10 +51,20 @@ struct OrientedPoint {
     Vec3 normal;  ///< outward, unit
 };
 
-/// An oriented point set: "x y z nx ny nz" per line ('#' starts a comment).
-/// Malformed lines, non-finite or zero normals throw InputError naming the
-/// file and line.
+/// An oriented point set: "x y z nx ny nz" per line ('#' starts a comment)
+/// in a .xyz, .pwn or .pts file. Malformed lines, non-finite or zero normals
+/// throw InputError naming the file and line; so do sets that cannot
+/// outline a solid (checkPointsOutlineASolid) and sets of fewer than
+/// kMinimumOrientedPoints.
 std::vector<OrientedPoint> readOrientedPoints(const std::string& path);
+
+/// Fewer loose oriented points than this cannot outline a surface worth
+/// fitting (a mesh may have fewer vertices: its faces say what is inside).
+inline constexpr size_t kMinimumOrientedPoints = 6;
+
+/// Throws InputError naming `file` when the points all lie in one plane (or
+/// on a line, or at one place).
+void checkPointsOutlineASolid(const std::vector<OrientedPoint>& points, const std::string& file);
 
 /// The vertices of a polygon model with their area-weighted normals.
 std::vector<OrientedPoint> orientedPointsOfMesh(const IndexedMesh& mesh);

@@ -72,8 +72,27 @@ int runIsotrace(int argc, const char* const* argv) {
     CLI::App app{"isotrace: a physically based renderer for implicit surfaces"};
     app.set_version_flag("--version", std::string("isotrace ") + kVersion);
     app.require_subcommand(1);
+    // Usage errors read like every other error: "error: " and the cause.
+    app.failure_message([](const CLI::App*, const CLI::Error& e) {
+        return "error: " + std::string(e.what()) + "\nRun with --help for more information.\n";
+    });
     const Subcommand commands[] = {addRenderCommand(app),  addPolygonizeCommand(app), addMergeCommand(app),
                                    addCompareCommand(app), addFitCommand(app),        addPreviewCommand(app), addSampleCommand(app)};
+    // CLI11 reports a misspelt command or an option before the command as
+    // "a subcommand is required"; name what was typed instead.
+    if (argc >= 2) {
+        const std::string first = argv[1];
+        const bool global = first == "-h" || first == "--help" || first == "--version";
+        bool known = false;
+        for (const Subcommand& c : commands) known = known || c.app->get_name() == first;
+        if (!known && !global) {
+            std::string names;
+            for (const Subcommand& c : commands) names += (names.empty() ? "" : ", ") + c.app->get_name();
+            std::fprintf(stderr, "error: %s \"%s\"; isotrace COMMAND [OPTIONS], where COMMAND is one of %s\n",
+                         first.rfind('-', 0) == 0 ? "unknown option" : "unknown command", first.c_str(), names.c_str());
+            return kExitBadInput;
+        }
+    }
     try {
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp& e) {

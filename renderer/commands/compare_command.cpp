@@ -302,8 +302,9 @@ Subcommand addCompareCommand(CLI::App& app) {
     cmd->add_option("--ppd", c->pixelsPerDegree,
                     "FLIP viewing condition: pixels per degree of visual angle (default 67: a 0.7 m wide 4K monitor at 0.7 m)")
         ->check(CLI::Range(1.0, 1000.0));
-    cmd->add_option("--fail", c->fail, "Fail (exit 1) when the metric is worse than this (psnr: lower)");
-    cmd->add_option("--warn", c->warn, "Warn when the metric is worse than this");
+    cmd->add_option("--fail", c->fail, "Fail (exit 1) when the metric is worse than this (psnr: lower)")
+        ->check(finiteNumber());
+    cmd->add_option("--warn", c->warn, "Warn when the metric is worse than this")->check(finiteNumber());
     cmd->add_option("--fail-percent", c->failPercent, "Fail when more than this percentage of pixels differ")
         ->check(CLI::Range(0.0, 100.0));
     cmd->add_option("--pixel-threshold", c->pixelThreshold,

@@ -11,6 +11,7 @@
 #include "renderer/field_hosting.h"
 #include "renderer/image_output.h"
 #include "renderer/mesh_export.h"
+#include "renderer/scene_loader.h"
 
 namespace isotrace {
 
@@ -26,7 +27,7 @@ struct PolygonizeCommand {
 int runPolygonize(const PolygonizeCommand& cmd) {
     if (!isMeshExtension(cmd.output))
         throw geometry::InputError(cmd.output, "", "unknown mesh format (use .ply, .obj or .off)");
-    checkOutputPath(cmd.output, {cmd.scene});
+    checkOutputPath(cmd.output, sceneInputFiles(cmd.scene));
     // Unknown names fail here, at "/fields", with the nearest name suggested.
     const geometry::FieldProgram field = compileSceneField(cmd.scene, cmd.field);
     geometry::PolygonizeOptions options;

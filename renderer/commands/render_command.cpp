@@ -7,6 +7,7 @@
 
 #include "geometry/content_hash.h"
 #include "geometry/input_error.h"
+#include "geometry/mesh_file.h"
 #include "renderer/commands/command.h"
 #include "renderer/image_output.h"
 #include "renderer/integrator.h"
@@ -80,8 +81,12 @@ int runRender(const RenderCommand& cmd) {
     if (cmd.as == "implicit") overrides.fieldMode = SceneOverrides::FieldMode::Implicit;
     const std::string output =
         cmd.output.empty() ? std::filesystem::path(cmd.scene).stem().string() + ".exr" : cmd.output;
-    checkOutputPath(output, {cmd.scene});
-    if (!cmd.noPreview) checkOutputPath(previewPathFor(output), {cmd.scene, output});
+    if (cmd.half && geometry::lowercaseExtension(output) != ".exr")
+        throw geometry::InputError("command line", "--half", "half floats are written to EXR only, not to " + output);
+    std::vector<std::string> inputs = sceneInputFiles(cmd.scene);
+    checkOutputPath(output, inputs);
+    inputs.push_back(output);
+    if (!cmd.noPreview) checkOutputPath(previewPathFor(output), inputs);
 
     // Loading builds surface cells and variational models in parallel: it
     // keeps to the same thread count as rendering.

@@ -11,6 +11,7 @@
 #include "renderer/field_hosting.h"
 #include "renderer/image_output.h"
 #include "renderer/point_export.h"
+#include "renderer/scene_loader.h"
 
 namespace isotrace {
 
@@ -30,7 +31,7 @@ int runSample(const SampleCommand& cmd) {
         throw geometry::InputError(cmd.output, "", "unknown point set format (use .ply or .xyz)");
     if ((cmd.count > 0) == (cmd.spacing > 0))
         throw geometry::InputError("command line", "", "give one of --count and --spacing");
-    checkOutputPath(cmd.output, {cmd.scene});
+    checkOutputPath(cmd.output, sceneInputFiles(cmd.scene));
     const geometry::FieldProgram field = compileSceneField(cmd.scene, cmd.field);
     geometry::ParticleOptions options;
     options.count = cmd.count;

@@ -168,6 +168,9 @@ std::vector<float> readEnvironmentMap(geometry::JsonObjectReader& r, const std::
              std::to_string(height));
     if (double(width) * height > double(1 << 26)) fail("the map is too large (more than 64 Mpixels)");
     const int channels = spec.nchannels;
+    // Two channels are grey and alpha, or two colours: neither is radiance.
+    if (channels != 1 && channels != 3 && channels != 4)
+        fail("an environment map has 1 (grey), 3 (RGB) or 4 (RGBA) channels, this one has " + std::to_string(channels));
     std::vector<float> all(size_t(width) * height * channels);
     if (!in->read_image(0, 0, 0, channels, OIIO::TypeDesc::FLOAT, all.data()))
         fail("cannot read the environment map (" + in->geterror() + ")");

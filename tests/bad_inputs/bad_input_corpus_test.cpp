@@ -7,6 +7,7 @@
 #include <unistd.h>
 
 #include <array>
+#include <cctype>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -108,7 +109,12 @@ std::vector<BadInputCase> allCases() {
     return cases;
 }
 
-std::string caseName(const ::testing::TestParamInfo<BadInputCase>& info) { return info.param.name; }
+std::string caseName(const ::testing::TestParamInfo<BadInputCase>& info) {
+    std::string name = info.param.name;
+    for (char& c : name)
+        if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+    return name;
+}
 
 INSTANTIATE_TEST_SUITE_P(Corpus, BadInput, ::testing::ValuesIn(allCases()), caseName);
 

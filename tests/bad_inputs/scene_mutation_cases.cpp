@@ -24,10 +24,12 @@ std::string testName(const std::string& text) {
     return name;
 }
 
-bool isNumberVector(const Json& value) {
-    if (!value.is_array() || value.empty()) return false;
+/// Arrays of plain values of one kind (vectors, lists of names, rows of
+/// numbers) are read by one loop: their first element stands for all.
+bool isUniformList(const Json& value) {
+    if (!value.is_array() || value.empty() || value[0].is_object()) return false;
     for (const auto& element : value)
-        if (!element.is_number()) return false;
+        if (element.type() != value[0].type() || (element.is_number() != value[0].is_number())) return false;
     return true;
 }
 
@@ -57,10 +59,9 @@ public:
             add("unknown_key", at, withUnknownKey, place + "/bogus_key");
             for (const auto& [key, value] : node.items()) visit(value, at / key, false);
         } else if (node.is_array()) {
-            // One element stands for the others of a vector of numbers.
-            const bool vector = isNumberVector(node);
-            const size_t visited = vector ? 1 : node.size();
-            for (size_t i = 0; i < visited; ++i) visit(node[i], at / i, vector);
+            const bool uniform = isUniformList(node);
+            const size_t visited = uniform ? 1 : node.size();
+            for (size_t i = 0; i < visited; ++i) visit(node[i], at / i, uniform && node[0].is_number());
         }
     }
     const Json& root() const { return root_; }

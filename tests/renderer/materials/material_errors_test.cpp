@@ -108,7 +108,7 @@ TEST(MaterialErrors, Textures) {
         OIIO::ImageBuf rgb(OIIO::ImageSpec(4, 4, 3, OIIO::TypeDesc::FLOAT));
         ASSERT_TRUE(rgb.write(folder.file("rgb.exr")));
         expectError(folder, R"({"type": "conductor", "roughness": {"type": "image", "file": "rgb.exr"}})",
-                    "/materials/m/roughness", "must have one channel; this one has 3");
+                    "/materials/m/roughness", "must have one channel; the image \"rgb.exr\" has 3");
         OIIO::ImageBuf nan(OIIO::ImageSpec(2, 2, 1, OIIO::TypeDesc::FLOAT));
         const float values[4] = {0.1f, NAN, 0.2f, 0.3f};
         nan.set_pixels(OIIO::ROI::All(), OIIO::TypeDesc::FLOAT, values);
