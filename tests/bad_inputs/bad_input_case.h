@@ -20,6 +20,12 @@ struct BadInputCase {
     std::vector<std::string> mentions;         ///< the message must contain each
 };
 
+/// A case of `arguments`, after `setup`, with `files` besides the fixtures.
+inline BadInputCase makeCase(std::string name, std::string arguments, std::vector<std::string> mentions,
+                             std::vector<std::string> setup = {}, std::map<std::string, std::string> files = {}) {
+    return {std::move(name), std::move(files), std::move(setup), std::move(arguments), std::move(mentions)};
+}
+
 /// Test output names the case, not its bytes.
 inline void PrintTo(const BadInputCase& c, std::ostream* out) { *out << c.name; }
 

@@ -3,17 +3,15 @@
 // another build (tests/sanitize.sh points it at the sanitizer build).
 #include <gtest/gtest.h>
 
-#include <sys/wait.h>
 #include <unistd.h>
 
-#include <array>
 #include <cctype>
-#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 
 #include "bad_inputs/bad_input_case.h"
+#include "support/run_command.h"
 
 namespace isotrace::testing {
 namespace {
@@ -25,23 +23,9 @@ std::string executable() {
     return other && *other ? other : ISOTRACE_EXECUTABLE;
 }
 
-struct Outcome {
-    int status = -1;  ///< exit code, or 128 + signal
-    std::string output;
-};
-
 /// Runs a shell command in `folder`; `timeout` turns a hang into 124.
-Outcome run(const fs::path& folder, const std::string& command) {
-    const std::string line = "cd '" + folder.string() + "' && timeout -k 5 120 " + command + " 2>&1 </dev/null";
-    Outcome outcome;
-    FILE* pipe = popen(line.c_str(), "r");
-    if (!pipe) return outcome;
-    std::array<char, 4096> buffer;
-    size_t n;
-    while ((n = fread(buffer.data(), 1, buffer.size(), pipe)) > 0) outcome.output.append(buffer.data(), n);
-    const int status = pclose(pipe);
-    outcome.status = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-    return outcome;
+CommandResult run(const fs::path& folder, const std::string& command) {
+    return runShell("cd '" + folder.string() + "' && timeout -k 5 120 " + command + " </dev/null");
 }
 
 std::string isotraceCommand(const std::string& arguments) { return "'" + executable() + "' " + arguments; }
@@ -76,15 +60,15 @@ TEST_P(BadInput, IsRefusedCleanly) {
     ::setenv("ISOTRACE_CACHE_DIR", (root / "cache").c_str(), 1);
     for (const std::string& step : c.setup) {
         const bool ownCommand = step.rfind("isotrace ", 0) == 0;
-        const Outcome prepared = run(folder, ownCommand ? isotraceCommand(step.substr(9)) : step);
-        ASSERT_EQ(prepared.status, 0) << "setup failed: " << step << "\n" << prepared.output;
+        const CommandResult prepared = run(folder, ownCommand ? isotraceCommand(step.substr(9)) : step);
+        ASSERT_EQ(prepared.exitCode, 0) << "setup failed: " << step << "\n" << prepared.output;
     }
     const auto before = snapshot(folder);
 
-    const Outcome outcome = run(folder, isotraceCommand(c.arguments));
+    const CommandResult outcome = run(folder, isotraceCommand(c.arguments));
     const std::string context = "isotrace " + c.arguments + "\n" + outcome.output;
-    EXPECT_NE(outcome.status, 124) << "hang: " << context;
-    EXPECT_EQ(outcome.status, 2) << context;
+    EXPECT_NE(outcome.exitCode, 124) << "hang: " << context;
+    EXPECT_EQ(outcome.exitCode, 2) << context;
     EXPECT_NE(outcome.output.find("error"), std::string::npos) << context;
     for (const std::string& mention : c.mentions)
         EXPECT_NE(outcome.output.find(mention), std::string::npos) << "does not name \"" << mention << "\": " << context;
@@ -126,8 +110,8 @@ TEST(BadInputFixtures, AreValid) {
     for (const auto& [name, content] : fixtureFiles()) std::ofstream(folder / name, std::ios::binary) << content;
     ::setenv("ISOTRACE_CACHE_DIR", (folder / "cache").c_str(), 1);
     for (const char* scene : {"scene.json", "other.json", "small.json"}) {
-        const Outcome outcome = run(folder, isotraceCommand(std::string("render ") + scene + " -o out.exr --quiet"));
-        EXPECT_EQ(outcome.status, 0) << scene << ": " << outcome.output;
+        const CommandResult outcome = run(folder, isotraceCommand(std::string("render ") + scene + " -o out.exr --quiet"));
+        EXPECT_EQ(outcome.exitCode, 0) << scene << ": " << outcome.output;
         EXPECT_EQ(outcome.output.find("warning"), std::string::npos) << scene << ": " << outcome.output;
     }
     fs::remove_all(folder);

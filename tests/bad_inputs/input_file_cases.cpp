@@ -37,13 +37,7 @@ std::string imageBytes(const std::string& extension, int width, int height, int 
 BadInputCase withFile(const std::string& name, const std::string& file, const std::string& content,
                       const std::string& arguments, std::vector<std::string> mentions,
                       std::vector<std::string> setup = {}) {
-    BadInputCase c;
-    c.name = name;
-    c.files[file] = content;
-    c.arguments = arguments;
-    c.mentions = std::move(mentions);
-    c.setup = std::move(setup);
-    return c;
+    return makeCase(name, arguments, std::move(mentions), std::move(setup), {{file, content}});
 }
 
 }  // namespace

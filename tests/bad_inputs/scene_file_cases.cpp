@@ -345,16 +345,12 @@ std::vector<BadInputCase> sceneFileCases() {
         {"stl_refused", "m.stl", "solid cube\nendsolid cube\n"},
         {"unknown_extension", "m.mesh", "OFF\n"},
     };
+    // Each as a mesh object and as a variational field's input.
     for (const FileCase& m : meshes) {
-        add(renderOf("mesh_object_" + std::string(m.name),
-                     smallWithObject(std::string(R"({"mesh": ")") + m.file + R"(", "material": "clay"})"), {m.file},
-                     {{m.file, m.content}}));
-    }
-    // The same meshes as variational and MPU inputs.
-    for (const FileCase& m : meshes) {
-        add(renderOf("variational_mesh_" + std::string(m.name),
-                     smallWithField(std::string(R"({"type": "variational", "mesh": ")") + m.file + "\"}"), {m.file},
-                     {{m.file, m.content}}));
+        const std::string object = std::string(R"({"mesh": ")") + m.file + R"(", "material": "clay"})";
+        const std::string field = std::string(R"({"type": "variational", "mesh": ")") + m.file + "\"}";
+        add(renderOf("mesh_object_" + std::string(m.name), smallWithObject(object), {m.file}, {{m.file, m.content}}));
+        add(renderOf("variational_mesh_" + std::string(m.name), smallWithField(field), {m.file}, {{m.file, m.content}}));
     }
     add(renderOf("mesh_object_missing_file", smallWithObject(R"({"mesh": "gone.off", "material": "clay"})"), {"gone.off"}));
     add(renderOf("mesh_object_is_folder", smallWithObject(R"({"mesh": "folder.off", "material": "clay"})"), {"folder.off"}));
