@@ -95,7 +95,9 @@ TEST(EnvironmentMap, SamplingPassesChiSquareAgainstItsPdf) {
         [&](int i) {
             sampler.startPixelSample(i, 0, 0);
             const LightSample s = env.sample({}, sampler.get2D());
-            if (s.pdf > 0) EXPECT_NEAR(env.pdf({}, s.direction, {}, {}), s.pdf, 1e-6 * s.pdf);
+            if (s.pdf > 0) {
+                EXPECT_NEAR(env.pdf({}, s.direction, {}, {}), s.pdf, 1e-6 * s.pdf);
+            }
             return s.pdf > 0 ? s.direction : Vec3(Vec3::Zero());
         },
         [&](const Vec3& w) { return env.pdf({}, w, {}, {}); }, 20, 40, 24);
