@@ -18,10 +18,14 @@ Box3 ConstraintSet::bounds() const {
     return box;
 }
 
-std::vector<OrientedPoint> readOrientedPoints(const std::string& path) {
+bool isOrientedPointFile(const std::string& path) {
     const std::string extension = lowercaseExtension(path);
-    if (extension != ".xyz" && extension != ".pwn" && extension != ".pts")
-        throw InputError(path, "", "unknown point-set format \"" + extension +
+    return extension == ".xyz" || extension == ".pwn" || extension == ".pts";
+}
+
+std::vector<OrientedPoint> readOrientedPoints(const std::string& path) {
+    if (!isOrientedPointFile(path))
+        throw InputError(path, "", "unknown point-set format \"" + lowercaseExtension(path) +
                                        "\"; oriented points are read from .xyz, .pwn or .pts text (x y z nx ny nz per line)");
     std::ifstream in(path);
     if (!in) throw InputError(path, "", "cannot open the oriented point set");

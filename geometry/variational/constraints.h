@@ -58,6 +58,10 @@ struct OrientedPoint {
 /// kMinimumOrientedPoints.
 std::vector<OrientedPoint> readOrientedPoints(const std::string& path);
 
+/// Whether `path` names an oriented point set by its extension (.xyz, .pwn or
+/// .pts, any case) rather than a polygon model.
+bool isOrientedPointFile(const std::string& path);
+
 /// Fewer loose oriented points than this cannot outline a surface worth
 /// fitting (a mesh may have fewer vertices: its faces say what is inside).
 inline constexpr size_t kMinimumOrientedPoints = 6;

@@ -50,8 +50,7 @@ int runFit(const FitCommand& c) {
     checkOutputPath(c.output, {c.input});
     // The command line becomes a description, so files and keys are read
     // exactly as in scene files.
-    const std::string extension = std::filesystem::path(c.input).extension().string();
-    const bool points = extension == ".xyz" || extension == ".pwn" || extension == ".pts";
+    const bool points = geometry::isOrientedPointFile(c.input);
     Json description = {{"type", "variational"}, {points ? "points" : "mesh", std::filesystem::absolute(c.input).string()}};
     if (c.normalOffset > 0) description["normal_offset"] = c.normalOffset;
     if (c.hermite) description["hermite"] = true;
@@ -100,7 +99,7 @@ int runFit(const FitCommand& c) {
 Subcommand addFitCommand(CLI::App& app) {
     auto c = std::make_shared<FitCommand>();
     CLI::App* sub = app.add_subcommand(
-        "fit", "Fit a variational implicit surface to a polygon model (OFF, OBJ, PLY) or oriented points (.xyz, .pwn)");
+        "fit", "Fit a variational implicit surface to a polygon model (OFF, OBJ, PLY) or oriented points (.xyz, .pwn, .pts)");
     sub->add_option("input", c->input, "Polygon model or oriented point set (x y z nx ny nz per line)")->required();
     sub->add_option("-o,--output", c->output, "The fitted field (JSON), for {\"type\": \"variational\", \"fitted\": ...}")
         ->required();

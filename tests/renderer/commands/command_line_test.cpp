@@ -506,6 +506,14 @@ TEST(CommandLine, FitWritesAFieldScenesLoadAndRefusesBadInput) {
     EXPECT_EQ(missing.output.find("command line"), std::string::npos) << missing.output;
     const auto line = runIsotrace("fit " + malformed + " -o " + out);
     EXPECT_NE(line.output.find("error: " + malformed + ": line 2: "), std::string::npos) << line.output;
+
+    // Point sets are told from meshes by extension in any case, as scenes
+    // read them: an upper-case .PWN is points, not a mesh format.
+    const std::string shouting = folder.file("SPHERE.PWN");
+    std::filesystem::copy_file(std::string(ISOTRACE_TEST_DATA_DIR) + "/sphere926.pwn", shouting);
+    const auto upper = runIsotrace("fit " + shouting + " -o " + folder.file("upper.fit.json"));
+    EXPECT_EQ(upper.exitCode, 0) << upper.output;
+    EXPECT_NE(upper.output.find("fitted 1852 value"), std::string::npos) << upper.output;
 }
 
 // An output that is one of the inputs (however it is spelt) or not a
