@@ -2,7 +2,10 @@
 // and 2 threads, mean and maximum marching steps per ray, and, in the same
 // run, Embree's throughput on a 1M-triangle mesh for scale. Also: steps with
 // per-cell versus one global Lipschitz bound (tangle) and node evaluations
-// per ray with and without per-cell pruning (many).
+// per ray with and without per-cell pruning (many), and on a cluster of
+// 1,001 (1 - d^2/R^2)^3 blobs (bench/scenes/blob_cluster.json, the size of
+// Segment Tracing's test): load time (cells built), steps and kernel
+// evaluations per primary ray.
 //
 //   implicit_throughput [SCENES_DIR]    (default: the source tree's scenes/)
 #include <cstdio>
@@ -124,5 +127,17 @@ int main(int argc, char** argv) {
         const StepStatistics pruned = countSteps(*scene), whole = countSteps(*implicitObjectsRebuilt(*scene, noPruning));
         std::printf("many: node evaluations per ray %.0f pruned, %.0f unpruned (%.1fx fewer)\n", pruned.meanEvaluations,
                     whole.meanEvaluations, whole.meanEvaluations / std::max(pruned.meanEvaluations, 1e-9));
+    }
+
+    // 1,001 blobs: what cell building costs before the first ray, and what
+    // each ray costs after it.
+    {
+        const std::string path = std::string(ISOTRACE_SOURCE_DIR) + "/bench/scenes/blob_cluster.json";
+        std::unique_ptr<Scene> scene;
+        const double loadSeconds = bench::medianSeconds(3, [&] { scene = loadScene(path); });
+        const StepStatistics s = countSteps(*scene);
+        std::printf("blob_cluster (1,001 blobs): load %.3f s, %.2f steps and %.1f kernel evaluations per ray, "
+                    "%.2f M rays/s on 2 threads\n",
+                    loadSeconds, s.meanSteps, s.meanEvaluations, primaryRaysPerSecond(*scene, 2) / 1e6);
     }
 }

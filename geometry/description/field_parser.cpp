@@ -290,8 +290,11 @@ uint32_t makePolynomial(Compiler& c, JsonObjectReader& r, const LeafPlacement& p
 
 uint32_t makeBlobby(Compiler& c, JsonObjectReader& r, const LeafPlacement& p) {
     BlobbyField f;
-    const std::string kernel = r.choice("kernel", {"blinn", "metaball", "soft"}, "metaball");
-    f.kernel = kernel == "blinn" ? BlobKernel::Blinn : kernel == "soft" ? BlobKernel::SoftObject : BlobKernel::Metaball;
+    const std::string kernel = r.choice("kernel", {"blinn", "metaball", "soft", "poly6"}, "metaball");
+    f.kernel = kernel == "blinn"  ? BlobKernel::Blinn
+               : kernel == "soft" ? BlobKernel::SoftObject
+               : kernel == "poly6" ? BlobKernel::Poly6
+                                   : BlobKernel::Metaball;
     f.threshold = r.positiveNumber("threshold", 0.5);
     if (kernel != "blinn" && r.has("blobbiness")) r.fail("blobbiness", "applies to the \"blinn\" kernel only");
     f.blobbiness = r.positiveNumber("blobbiness", 4.0);

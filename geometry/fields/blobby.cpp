@@ -9,6 +9,8 @@ constexpr double kBlinnCutExponent = 36.0;  // e^-36 ~ 2e-16: below double round
 
 // Peak of |k'(a)| for Wyvill's kernel: root of 120 a^4 - 204 a^2 + 44 in (0, 1).
 const double kSoftObjectPeak = std::sqrt((204.0 - std::sqrt(204.0 * 204.0 - 4.0 * 120.0 * 44.0)) / 240.0);
+// Peak of |k'(a)| = 6 a (1 - a^2)^2: its derivative 6 (1 - a^2)(1 - 5 a^2) vanishes at 1/sqrt(5).
+const double kPoly6Peak = 1.0 / std::sqrt(5.0);
 }  // namespace
 
 double BlobbyField::support() const {
@@ -30,6 +32,11 @@ double BlobbyField::kernelValue(double a) const {
             const double a2 = a * a, a4 = a2 * a2, a6 = a4 * a2;
             return 1.0 - (4.0 / 9.0) * a6 + (17.0 / 9.0) * a4 - (22.0 / 9.0) * a2;
         }
+        case BlobKernel::Poly6: {
+            if (a >= 1.0) return 0.0;
+            const double u = 1.0 - a * a;
+            return u * u * u;
+        }
     }
     return 0.0;
 }
@@ -50,6 +57,11 @@ double BlobbyField::kernelSlope(double a) const {
             const double a2 = a * a, a3 = a2 * a, a5 = a3 * a2;
             return -(24.0 / 9.0) * a5 + (68.0 / 9.0) * a3 - (44.0 / 9.0) * a;
         }
+        case BlobKernel::Poly6: {
+            if (a >= 1.0) return 0.0;
+            const double u = 1.0 - a * a;
+            return -6.0 * a * u * u;
+        }
     }
     return 0.0;
 }
@@ -62,6 +74,7 @@ double BlobbyField::maxKernelSlope(double a0, double a1) const {
         case BlobKernel::Blinn: peak = 1.0 / std::sqrt(2.0 * blobbiness); break;
         case BlobKernel::Metaball: peak = 1.0 / 3.0; break;
         case BlobKernel::SoftObject: peak = kSoftObjectPeak; break;
+        case BlobKernel::Poly6: peak = kPoly6Peak; break;
     }
     if (a0 <= peak && peak <= a1) return std::abs(kernelSlope(peak));
     return std::max(std::abs(kernelSlope(a0)), std::abs(kernelSlope(a1)));

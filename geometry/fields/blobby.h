@@ -1,4 +1,5 @@
-// Blobby objects (Blinn), metaballs (Nishimura) and soft objects (Wyvill):
+// Blobby objects (Blinn), metaballs (Nishimura), soft objects (Wyvill) and
+// the (1 - a^2)^3 falloff:
 // f(p) = T - sum_i w_i k(|p - c_i| / R_i), negative where the blobs' sum
 // exceeds the threshold T. Every kernel here has finite support, so a cell
 // keeps only the blobs that reach it (prunedTo) and stays exact.
@@ -13,7 +14,8 @@ namespace isotrace::geometry {
 enum class BlobKernel {
     Blinn,      ///< exp(-b a^2), truncated smoothly where it falls below e^-36
     Metaball,   ///< Nishimura's piecewise quadratic, support a <= 1
-    SoftObject  ///< Wyvill's sextic, support a <= 1
+    SoftObject,  ///< Wyvill's sextic, support a <= 1
+    Poly6        ///< (1 - a^2)^3, support a <= 1: SPH's poly6, Segment Tracing's falloff
 };
 
 struct Blob {

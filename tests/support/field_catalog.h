@@ -48,6 +48,9 @@ inline std::vector<CatalogEntry> fieldCatalog() {
             {"center": [0, -0.3, 0.4], "radius": 0.8, "weight": -0.3}]})"},
         {"blobby_soft", R"({"type": "blobby", "kernel": "soft", "threshold": 0.3, "blobs": [
             {"center": [-0.4, 0, 0], "radius": 1.0}, {"center": [0.5, 0.1, 0], "radius": 0.9}]})"},
+        {"blobby_poly6", R"({"type": "blobby", "kernel": "poly6", "threshold": 0.25, "blobs": [
+            {"center": [-0.4, 0, 0], "radius": 1.1}, {"center": [0.5, 0.1, 0], "radius": 0.9},
+            {"center": [0, 0.4, 0.3], "radius": 0.7, "weight": -0.2}]})"},
         {"distance_polyline", R"({"type": "distance", "points": [[-0.8, 0, 0], [0, 0.5, 0], [0.7, -0.2, 0.3]], "radius": 0.2})"},
         {"distance_circle", R"({"type": "distance", "circle": {"center": [0, 0.1, 0], "normal": [1, 1, 0], "radius": 0.7}, "radius": 0.15})"},
         {"convolution", R"({"type": "convolution", "threshold": 0.5, "segments": [
