@@ -17,6 +17,7 @@ command -v clang++ >/dev/null || { echo "fuzz.sh: needs clang (Debian: apt-get i
 bash tests/sanitize.sh --build
 export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
+export LSAN_OPTIONS=suppressions=$PWD/tests/sanitizer_suppressions.txt:print_suppressions=0
 run() {
   local target=$1 work=build-sanitize/fuzz
   mkdir -p "$work/corpus/$target" "$work/findings/$target"
