@@ -1,7 +1,5 @@
 #include "renderer/csg_preview.h"
 
-#include <OpenImageIO/imagebuf.h>
-#include <OpenImageIO/imagebufalgo.h>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -13,6 +11,7 @@
 #include "geometry/description/field_parser.h"
 #include "geometry/input_error.h"
 #include "renderer/field_hosting.h"
+#include "renderer/image_files/openimageio_library.h"
 #include "renderer/image_output.h"
 #include "renderer/render.h"
 #include "renderer/scene_builder.h"
@@ -210,10 +209,14 @@ std::string shortNumber(double x) {
 }
 
 void drawLabel(Image& sheet, int x, int y, const std::string& text, int size, std::vector<std::string>& warnings) {
-    OIIO::ImageBuf buffer(OIIO::ImageSpec(sheet.width, sheet.height, 3, OIIO::TypeDesc::FLOAT), sheet.rgb.data());
-    const float white[3] = {1, 1, 1};
-    if (!OIIO::ImageBufAlgo::render_text(buffer, x, y, text, size, "DejaVuSans", white))
-        warnings.push_back("could not draw the label \"" + text + "\" (" + buffer.geterror() +
+    std::string problem;
+    try {
+        problem = openImageIo().drawText(sheet.rgb.data(), sheet.width, sheet.height, x, y, text, size, "DejaVuSans");
+    } catch (const std::runtime_error& e) {
+        problem = e.what();
+    }
+    if (!problem.empty())
+        warnings.push_back("could not draw the label \"" + text + "\" (" + problem +
                            "; the DejaVu fonts, Debian package fonts-dejavu-core, provide it)");
 }
 

@@ -1,13 +1,17 @@
 #include "renderer/image_output.h"
 
-#include <OpenImageIO/imagebuf.h>
-#include <OpenImageIO/imageio.h>
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <functional>
 #include <stdexcept>
 #include <unistd.h>
 
 #include "geometry/input_error.h"
+#include "geometry/mesh_file.h"
+#include "renderer/image_files/exr_file.h"
+#include "renderer/image_files/openimageio_library.h"
+#include "renderer/image_files/png_file.h"
 #include "renderer/partial_files.h"
 
 namespace isotrace {
@@ -15,34 +19,27 @@ namespace isotrace {
 namespace {
 
 std::string temporaryPathFor(const std::string& path) {
-    // Same folder (rename stays atomic), same extension (OIIO picks the format by it).
+    // Same folder (rename stays atomic), same extension.
     const std::filesystem::path p(path);
     return (p.parent_path() / ("." + p.stem().string() + ".partial-" + std::to_string(getpid()) + p.extension().string()))
         .string();
 }
 
-void writeBuffer(const std::string& path, const OIIO::ImageSpec& spec, OIIO::TypeDesc memoryType, const void* pixels) {
+// Files appear only when complete: `write` fills a temporary file in the
+// same folder, which is then renamed; on any failure (or a signal, through
+// PartialFile) it is removed.
+void writeAtomically(const std::string& path, const std::function<void(const std::string& temporary)>& write) {
     const std::string temporary = temporaryPathFor(path);
     const PartialFile guard(temporary);
-    auto out = OIIO::ImageOutput::create(path);
-    if (!out) throw std::runtime_error(path + ": cannot write this image format (" + OIIO::geterror() + ")");
-    bool ok = out->open(temporary, spec) && out->write_image(memoryType, pixels) && out->close();
-    if (!ok) {
-        const std::string message = out->geterror();
+    try {
+        write(temporary);
+    } catch (const std::exception& e) {
         std::filesystem::remove(temporary);
-        throw std::runtime_error(path + ": cannot write image: " + message);
-    }
-    // OpenImageIO's PNG writer reports no error when the disk fills up (a
-    // truncated file and success): read such files back before they count.
-    if (std::filesystem::path(path).extension() != ".exr") {
-        auto in = OIIO::ImageInput::open(temporary);
-        std::vector<unsigned char> check(spec.image_bytes());
-        if (!in || !in->read_image(0, 0, 0, spec.nchannels, spec.format, check.data())) {
-            if (in) in->close();
-            std::filesystem::remove(temporary);
-            throw std::runtime_error(path + ": cannot write image: the file was cut short (is the disk full?)");
-        }
-        in->close();
+        // Messages name the file the user asked for, not the temporary one.
+        std::string message = e.what();
+        for (size_t at = message.find(temporary); at != std::string::npos; at = message.find(temporary, at + path.size()))
+            message.replace(at, temporary.size(), path);
+        throw std::runtime_error(message);
     }
     std::error_code ec;
     std::filesystem::rename(temporary, path, ec);
@@ -52,34 +49,41 @@ void writeBuffer(const std::string& path, const OIIO::ImageSpec& spec, OIIO::Typ
     }
 }
 
+bool isExr(const std::string& path) { return geometry::lowercaseExtension(path) == ".exr"; }
+
+void writeImageFile(const std::string& path, const ImageFile& image, SampleFormat format) {
+    writeAtomically(path, [&](const std::string& temporary) {
+        if (isExr(path)) writeExr(temporary, image, format);
+        else openImageIo().write(path, temporary, image, format);
+    });
+}
+
 }  // namespace
 
+ImageFile readImageFile(const std::string& path, bool withPixels) {
+    return isExr(path) ? readExr(path, withPixels) : openImageIo().read(path, withPixels);
+}
+
 void writeImage(const std::string& path, const Image& image, const ImageMetadata& metadata, bool half) {
-    const int channels = 3 + int(image.extraChannels.size());
-    OIIO::ImageSpec spec(image.width, image.height, channels, half ? OIIO::TypeDesc::HALF : OIIO::TypeDesc::FLOAT);
-    spec.channelnames = {"R", "G", "B"};
-    spec.channelnames.insert(spec.channelnames.end(), image.extraChannels.begin(), image.extraChannels.end());
-    // A window of a larger frame keeps its place (EXR data window inside
-    // the display window), which is what `isotrace merge` reads back.
-    spec.x = image.x;
-    spec.y = image.y;
-    spec.full_x = 0;
-    spec.full_y = 0;
-    spec.full_width = image.fullWidth > 0 ? image.fullWidth : image.width;
-    spec.full_height = image.fullHeight > 0 ? image.fullHeight : image.height;
-    for (const auto& [name, value] : metadata.strings) spec.attribute(name, value);
-    if (image.extraChannels.empty()) {
-        writeBuffer(path, spec, OIIO::TypeDesc::FLOAT, image.rgb.data());  // OIIO converts to half if asked
-        return;
-    }
+    ImageFile file;
+    file.width = image.width;
+    file.height = image.height;
+    file.x = image.x;
+    file.y = image.y;
+    file.fullWidth = image.fullWidth > 0 ? image.fullWidth : image.width;
+    file.fullHeight = image.fullHeight > 0 ? image.fullHeight : image.height;
+    file.channelNames = {"R", "G", "B"};
+    file.channelNames.insert(file.channelNames.end(), image.extraChannels.begin(), image.extraChannels.end());
+    file.strings = metadata.strings;
     // Interleave colour and AOV channels per pixel.
     const size_t pixels = size_t(image.width) * image.height, extra = image.extraChannels.size();
-    std::vector<float> all(pixels * channels);
+    const size_t channels = 3 + extra;
+    file.pixels.resize(pixels * channels);
     for (size_t p = 0; p < pixels; ++p) {
-        std::copy_n(&image.rgb[3 * p], 3, &all[p * channels]);
-        std::copy_n(&image.extra[extra * p], extra, &all[p * channels + 3]);
+        std::copy_n(&image.rgb[3 * p], 3, &file.pixels[p * channels]);
+        std::copy_n(&image.extra[extra * p], extra, &file.pixels[p * channels + 3]);
     }
-    writeBuffer(path, spec, OIIO::TypeDesc::FLOAT, all.data());
+    writeImageFile(path, file, half ? SampleFormat::Half : SampleFormat::Float);
 }
 
 void writePreviewPng(const std::string& path, const Image& image, double exposure) {
@@ -92,8 +96,19 @@ void writePreviewPng(const std::string& path, const Image& image, double exposur
         v = v <= 0.0031308 ? 12.92 * v : 1.055 * std::pow(v, 1.0 / 2.4) - 0.055;
         bytes[i] = static_cast<unsigned char>(std::lround(v * 255.0));
     }
-    OIIO::ImageSpec spec(image.width, image.height, 3, OIIO::TypeDesc::UINT8);
-    writeBuffer(path, spec, OIIO::TypeDesc::UINT8, bytes.data());
+    writeAtomically(path, [&](const std::string& temporary) {
+        if (geometry::lowercaseExtension(path) == ".png") {
+            writePng(temporary, bytes.data(), image.width, image.height);
+            return;
+        }
+        ImageFile file;
+        file.width = file.fullWidth = image.width;
+        file.height = file.fullHeight = image.height;
+        file.channelNames = {"R", "G", "B"};
+        file.pixels.assign(bytes.begin(), bytes.end());
+        for (float& v : file.pixels) v /= 255.0f;
+        openImageIo().write(path, temporary, file, SampleFormat::Byte);
+    });
 }
 
 void checkOutputPath(const std::string& path, const std::vector<std::string>& inputs) {
@@ -117,31 +132,26 @@ std::string previewPathFor(const std::string& exrPath) {
 }
 
 Image readImage(const std::string& path, ImageMetadata* metadata) {
-    auto in = OIIO::ImageInput::open(path);
-    if (!in) throw std::runtime_error(path + ": cannot read image: " + OIIO::geterror());
-    const OIIO::ImageSpec& spec = in->spec();
+    const ImageFile file = readImageFile(path);
     Image image;
-    image.width = spec.width;
-    image.height = spec.height;
-    image.x = spec.x;
-    image.y = spec.y;
-    image.fullWidth = spec.full_width;
-    image.fullHeight = spec.full_height;
-    std::vector<float> all(size_t(spec.width) * spec.height * spec.nchannels);
-    if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, all.data()))
-        throw std::runtime_error(path + ": cannot read image: " + in->geterror());
-    if (metadata)
-        for (const OIIO::ParamValue& p : spec.extra_attribs)
-            if (p.type() == OIIO::TypeDesc::STRING) metadata->strings.emplace_back(p.name().string(), p.get_string());
-    image.rgb.resize(size_t(spec.width) * spec.height * 3);
-    for (size_t p = 0; p < size_t(spec.width) * spec.height; ++p)
-        for (int c = 0; c < 3; ++c) image.rgb[3 * p + c] = all[p * spec.nchannels + std::min(c, spec.nchannels - 1)];
+    image.width = file.width;
+    image.height = file.height;
+    image.x = file.x;
+    image.y = file.y;
+    image.fullWidth = file.fullWidth;
+    image.fullHeight = file.fullHeight;
+    if (metadata) metadata->strings = file.strings;
+    const size_t pixels = size_t(file.width) * file.height, channels = size_t(file.channels());
+    // Grey files fill all three colour channels (two channels: grey and alpha).
+    image.rgb.resize(pixels * 3);
+    for (size_t p = 0; p < pixels; ++p)
+        for (size_t c = 0; c < 3; ++c) image.rgb[3 * p + c] = file.pixels[p * channels + (channels >= 3 ? c : 0)];
     // Channels past the first three (AOVs) come along, so merge keeps them.
-    for (int c = 3; c < spec.nchannels; ++c) image.extraChannels.push_back(spec.channelnames[c]);
+    for (size_t c = 3; c < channels; ++c) image.extraChannels.push_back(file.channelNames[c]);
     const size_t extra = image.extraChannels.size();
-    image.extra.resize(size_t(spec.width) * spec.height * extra);
-    for (size_t p = 0; p < size_t(spec.width) * spec.height; ++p)
-        for (size_t c = 0; c < extra; ++c) image.extra[p * extra + c] = all[p * spec.nchannels + 3 + c];
+    image.extra.resize(pixels * extra);
+    for (size_t p = 0; p < pixels; ++p)
+        for (size_t c = 0; c < extra; ++c) image.extra[p * extra + c] = file.pixels[p * channels + 3 + c];
     return image;
 }
 

@@ -11,10 +11,12 @@
 
 namespace isotrace {
 
-/// Writes any format OpenImageIO knows from the extension (EXR: float or
-/// half RGB). Throws std::runtime_error naming the path on failure.
+/// Writes R, G, B and the AOV channels: EXR (float or half) through
+/// OpenEXR, any other format OpenImageIO knows from the extension. Throws
+/// std::runtime_error naming the path on failure.
 void writeImage(const std::string& path, const Image& image, const ImageMetadata& metadata, bool half);
-/// 8-bit sRGB preview, exposure in stops.
+/// 8-bit sRGB preview, exposure in stops: PNG through libpng (other
+/// extensions through OpenImageIO).
 void writePreviewPng(const std::string& path, const Image& image, double exposure);
 /// The preview's name next to an output: out.exr -> out.png.
 std::string previewPathFor(const std::string& exrPath);

@@ -2,9 +2,6 @@
 // tests and people. Exit 0 within thresholds, 1 over the fail threshold (or
 // NaN and infinite pixels), 2 for bad input.
 
-#include <OpenImageIO/imagebuf.h>
-#include <OpenImageIO/imagebufalgo.h>
-#include <OpenImageIO/imageio.h>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -14,6 +11,8 @@
 #include "renderer/commands/command.h"
 #include "renderer/flip_metric.h"
 #include "renderer/image_comparison.h"
+#include "renderer/image_files/image_file.h"
+#include "renderer/image_files/openimageio_library.h"
 #include "renderer/image_output.h"
 
 namespace isotrace {
@@ -42,11 +41,20 @@ struct ImageShape {
     bool floatingPoint;  ///< linear HDR data (EXR, HDR, float TIFF) rather than display-encoded values
 };
 
+// Image readers name the file in their messages; InputError names it once.
+InputError imageError(const std::string& path, const std::exception& e) {
+    std::string message = e.what();
+    if (message.rfind(path + ": ", 0) == 0) message.erase(0, path.size() + 2);
+    return InputError(path, "", message);
+}
+
 ImageShape shapeOf(const std::string& path) {
-    auto in = OIIO::ImageInput::open(path);
-    if (!in) throw InputError(path, "", "cannot read image: " + OIIO::geterror());
-    const OIIO::ImageSpec& spec = in->spec();
-    return {spec.width, spec.height, spec.channelnames, spec.format.is_floating_point()};
+    try {
+        const ImageFile file = readImageFile(path, false);
+        return {file.width, file.height, file.channelNames, file.floatingPoint};
+    } catch (const std::exception& e) {
+        throw imageError(path, e);
+    }
 }
 
 // Display-encoded files (PNG, JPEG, 8/16-bit TIFF) hold sRGB values; FLIP
@@ -68,13 +76,13 @@ void writeFlipMap(const std::string& path, const FlipResult& flip) {
         writeImage(path, map, {}, false);
         return;
     }
-    OIIO::ImageBuf errors(OIIO::ImageSpec(flip.width, flip.height, 1, OIIO::TypeDesc::FLOAT),
-                          const_cast<float*>(flip.errors.data()));
-    const OIIO::ImageBuf colored = OIIO::ImageBufAlgo::color_map(errors, 0, "magma");
-    if (colored.has_error()) throw std::runtime_error(path + ": cannot colour the FLIP map: " + colored.geterror());
-    // color_map's output is display-encoded already; writePreviewPng encodes
-    // linear values, so undo that here.
-    colored.get_pixels(OIIO::ROI::All(), OIIO::TypeDesc::FLOAT, map.rgb.data());
+    // The colour map's output is display-encoded already; writePreviewPng
+    // encodes linear values, so undo that here.
+    try {
+        map.rgb = openImageIo().colorMap(flip.errors, flip.width, flip.height, "magma");
+    } catch (const std::runtime_error& e) {
+        throw std::runtime_error(path + ": " + e.what());
+    }
     writePreviewPng(path, linearized(map), 0.0);
 }
 
@@ -88,7 +96,7 @@ Image load(const std::string& path) {
     try {
         return readImage(path);
     } catch (const std::exception& e) {
-        throw InputError(path, "", e.what());
+        throw imageError(path, e);
     }
 }
 

@@ -2,7 +2,6 @@
 // ("radiance") or from a latitude-longitude map ("file"). At most one per
 // scene.
 #include <Eigen/Geometry>
-#include <OpenImageIO/imageio.h>
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -10,6 +9,7 @@
 #include <numbers>
 #include <vector>
 
+#include "renderer/image_files/image_file.h"
 #include "renderer/light.h"
 #include "renderer/scene_builder.h"
 #include "renderer/piecewise_constant.h"
@@ -158,22 +158,29 @@ private:
 // texels; errors name the file and the key.
 std::vector<float> readEnvironmentMap(geometry::JsonObjectReader& r, const std::string& path, int& width, int& height) {
     auto fail = [&](const std::string& message) { r.fail("file", "\"" + path + "\": " + message); };
-    auto in = OIIO::ImageInput::open(path);
-    if (!in) fail("cannot read the environment map (" + OIIO::geterror() + ")");
-    const OIIO::ImageSpec spec = in->spec();
-    width = spec.width;
-    height = spec.height;
+    // The header first: the size is checked before any pixel is read.
+    ImageFile image;
+    try {
+        image = readImageFile(path, false);
+    } catch (const std::exception& e) {
+        fail(std::string("cannot read the environment map (") + e.what() + ")");
+    }
+    width = image.width;
+    height = image.height;
     if (width != 2 * height || height < 1)
         fail("a latitude-longitude map is twice as wide as it is high, this one is " + std::to_string(width) + "x" +
              std::to_string(height));
     if (double(width) * height > double(1 << 26)) fail("the map is too large (more than 64 Mpixels)");
-    const int channels = spec.nchannels;
+    const int channels = image.channels();
     // Two channels are grey and alpha, or two colours: neither is radiance.
     if (channels != 1 && channels != 3 && channels != 4)
         fail("an environment map has 1 (grey), 3 (RGB) or 4 (RGBA) channels, this one has " + std::to_string(channels));
-    std::vector<float> all(size_t(width) * height * channels);
-    if (!in->read_image(0, 0, 0, channels, OIIO::TypeDesc::FLOAT, all.data()))
-        fail("cannot read the environment map (" + in->geterror() + ")");
+    try {
+        image = readImageFile(path, true);
+    } catch (const std::exception& e) {
+        fail(std::string("cannot read the environment map (") + e.what() + ")");
+    }
+    const std::vector<float>& all = image.pixels;
     std::vector<float> rgb(size_t(width) * height * 3);
     for (size_t p = 0; p < size_t(width) * height; ++p)
         for (int c = 0; c < 3; ++c) {

@@ -1,30 +1,18 @@
 // "image": an image projected onto the surface along the three object axes
 // and blended by the normal (triplanar mapping), since implicit surfaces
-// have no UVs. Lookups go through OpenImageIO's TextureSystem: MIP-mapped
-// and filtered over the pixel's footprint, tiles cached and shared.
-#include <OpenImageIO/imagebuf.h>
-#include <OpenImageIO/imagebufalgo.h>
-#include <OpenImageIO/texture.h>
+// have no UVs. Lookups go through OpenImageIO's TextureSystem (in the
+// module openImageIo() loads): MIP-mapped and filtered over the pixel's
+// footprint, tiles cached and shared.
 #include <cmath>
+#include <limits>
 
+#include "renderer/image_files/image_file.h"
+#include "renderer/image_files/openimageio_library.h"
 #include "renderer/texture.h"
 
 namespace isotrace {
 
 namespace {
-
-using OIIO::TextureOpt;
-using OIIO::TextureSystem;
-
-// The process's texture system, shared by every scene (it caches tiles).
-TextureSystem& textureSystem() {
-    static TextureSystem* system = [] {
-        TextureSystem* ts = TextureSystem::create(true);
-        ts->attribute("automip", 1);  // MIP-map plain images on first use
-        return ts;
-    }();
-    return *system;
-}
 
 double srgbToLinear(double v) { return v <= 0.04045 ? v / 12.92 : std::pow((v + 0.055) / 1.055, 2.4); }
 
@@ -34,7 +22,7 @@ public:
                  RGB maximum)
         : channels_(channels), srgb_(srgb), inverseScale_(1.0 / scale), sharpness_(sharpness), minimum_(minimum),
           maximum_(maximum) {
-        handle_ = textureSystem().get_texture_handle(OIIO::ustring(file));
+        image_ = openImageIo().openTexture(file);
     }
 
     RGB evaluate(const ShadingPoint& p) const override {
@@ -46,18 +34,13 @@ public:
         if (!(total > 0)) w = Vec3(0, 0, 1);
         else w /= total;
         const float width = float(p.footprint * inverseScale_);
-        TextureSystem& ts = textureSystem();
-        TextureSystem::Perthread* thread = ts.get_perthread_info();
         RGB sum = RGB::Zero();
         const double coordinates[3][2] = {{q.z(), q.y()}, {q.x(), q.z()}, {q.x(), q.y()}};
         for (int axis = 0; axis < 3; ++axis) {
             if (w[axis] < 1e-4) continue;
-            TextureOpt options;
-            options.swrap = options.twrap = TextureOpt::WrapPeriodic;
-            options.interpmode = TextureOpt::InterpBilinear;  // B-spline bicubic would blur texels
             float texel[3] = {0, 0, 0};
-            ts.texture(handle_, thread, options, float(coordinates[axis][0]), float(1.0 - coordinates[axis][1]), width,
-                       0.0f, 0.0f, width, channels_ == 1 ? 1 : 3, texel);
+            image_->lookup(float(coordinates[axis][0]), float(1.0 - coordinates[axis][1]), width,
+                           channels_ == 1 ? 1 : 3, texel);
             const RGB value = channels_ == 1 ? RGB::Constant(texel[0]) : RGB(texel[0], texel[1], texel[2]);
             sum += w[axis] * value;
         }
@@ -70,7 +53,7 @@ public:
     RGB maximum() const override { return maximum_; }
 
 private:
-    TextureSystem::TextureHandle* handle_ = nullptr;
+    std::unique_ptr<TextureImage> image_;
     int channels_;
     bool srgb_;
     double inverseScale_, sharpness_;
@@ -89,25 +72,40 @@ std::shared_ptr<const Texture> readImageTexture(geometry::JsonObjectReader& r, c
     if (!std::filesystem::is_regular_file(path)) r.fail("file", "cannot read \"" + path.string() + "\": no such file");
     // Read the image once to validate it: channels, and values a material
     // parameter can be checked against (NaN and infinity refused).
-    OIIO::ImageBuf image(path.string());
-    if (!image.read(0, 0, true, OIIO::TypeDesc::FLOAT))
-        r.fail("file", "cannot read \"" + path.string() + "\": " + image.geterror());
-    const OIIO::ImageSpec& spec = image.spec();
-    int channels = spec.nchannels;
+    ImageFile image;
+    try {
+        image = readImageFile(path.string());
+    } catch (const std::exception& e) {
+        r.fail("file", "cannot read \"" + path.string() + "\": " + e.what());
+    }
+    int channels = image.channels();
     if (channels == 4) channels = 3;  // alpha is ignored
     if (channels != 1 && channels != 3)
-        r.fail("file", "\"" + path.string() + "\" has " + std::to_string(spec.nchannels) +
+        r.fail("file", "\"" + path.string() + "\" has " + std::to_string(image.channels()) +
                            " channels; a texture needs 1 (grey), 3 (RGB) or 4 (RGBA)");
-    const OIIO::ImageBufAlgo::PixelStats stats = OIIO::ImageBufAlgo::computePixelStats(image);
-    for (int c = 0; c < spec.nchannels; ++c)
-        if (stats.nancount[c] > 0 || stats.infcount[c] > 0)
-            r.fail("file", "\"" + path.string() + "\" holds NaN or infinite values");
-    const bool srgb = spec.get_string_attribute("oiio:ColorSpace") == "sRGB";
+    float minimum[3], maximum[3];
+    std::fill_n(minimum, 3, std::numeric_limits<float>::infinity());
+    std::fill_n(maximum, 3, -std::numeric_limits<float>::infinity());
+    const size_t stride = size_t(image.channels());
+    for (size_t i = 0; i < image.pixels.size(); ++i) {
+        const float v = image.pixels[i];
+        if (!std::isfinite(v)) r.fail("file", "\"" + path.string() + "\" holds NaN or infinite values");
+        const size_t c = i % stride;
+        if (c < 3) {
+            minimum[c] = std::min(minimum[c], v);
+            maximum[c] = std::max(maximum[c], v);
+        }
+    }
+    // Display-encoded files (PNG, JPEG) hold sRGB values; OpenImageIO says
+    // so, EXR files read without it are linear.
+    bool srgb = false;
+    for (const auto& [name, value] : image.strings)
+        if (name == "oiio:ColorSpace") srgb = value == "sRGB";
     RGB lowest, highest;
     for (int c = 0; c < 3; ++c) {
         const int source = channels == 1 ? 0 : c;
-        lowest[c] = srgb ? srgbToLinear(stats.min[source]) : stats.min[source];
-        highest[c] = srgb ? srgbToLinear(stats.max[source]) : stats.max[source];
+        lowest[c] = srgb ? srgbToLinear(minimum[source]) : minimum[source];
+        highest[c] = srgb ? srgbToLinear(maximum[source]) : maximum[source];
     }
     return std::make_shared<ImageTexture>(path.string(), channels, srgb, scale, sharpness, lowest, highest);
 }

@@ -5,6 +5,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <fstream>
 
@@ -576,4 +578,46 @@ TEST(CommandLine, NonFiniteAndNegativeNumbersAreRefused) {
         EXPECT_EQ(r.exitCode, 2) << args;
         EXPECT_NE(r.output.find("found"), std::string::npos) << args << "\n" << r.output;
     }
+}
+
+// Renders (EXR and PNG preview), tiles, merges and comparisons of EXRs
+// never load OpenImageIO, whose Debian build maps some 250 libraries at
+// start-up: with its module made unloadable they all still work. What does
+// need it (reading a PNG) fails with a clear error, and writes nothing.
+TEST(CommandLine, RendersMergesAndComparesWithoutOpenImageIo) {
+    TemporaryFolder folder;
+    const std::string scene = folder.write("scene.json", kSmallScene);
+    const std::string without = "ISOTRACE_OPENIMAGEIO_MODULE=" + folder.file("absent.so") + " " ISOTRACE_EXECUTABLE " ";
+    auto run = [&](const std::string& arguments) { return isotrace::testing::runShell(without + arguments); };
+    const auto whole = run("render " + scene + " --seed 3 -q -o " + folder.file("whole.exr"));
+    ASSERT_EQ(whole.exitCode, 0) << whole.output;
+    EXPECT_TRUE(std::filesystem::exists(folder.file("whole.png")));
+    for (int i = 0; i < 2; ++i) {
+        const auto tile = run("render " + scene + " --seed 3 -q --no-preview --tile " + std::to_string(i) + "/2 -o " +
+                              folder.file("t" + std::to_string(i) + ".exr"));
+        ASSERT_EQ(tile.exitCode, 0) << tile.output;
+    }
+    const auto merge = run("merge " + folder.file("t0.exr") + " " + folder.file("t1.exr") + " -o " + folder.file("m.exr"));
+    ASSERT_EQ(merge.exitCode, 0) << merge.output;
+    const auto same = run("compare " + folder.file("whole.exr") + " " + folder.file("m.exr") + " --metric rmse --fail 0");
+    EXPECT_EQ(same.exitCode, 0) << same.output;
+
+    // The preview PNG, written by libpng, reads back through OpenImageIO
+    // with the EXR's pixels in sRGB.
+    auto in = OIIO::ImageInput::open(folder.file("whole.png"));
+    ASSERT_TRUE(in);
+    ASSERT_EQ(in->spec().width, 16);
+    std::vector<unsigned char> png(16 * 12 * 3);
+    ASSERT_TRUE(in->read_image(0, 0, 0, 3, OIIO::TypeDesc::UINT8, png.data()));
+    const isotrace::Image exr = isotrace::readImage(folder.file("whole.exr"));
+    for (size_t i = 0; i < png.size(); ++i) {
+        const double v = std::clamp(double(exr.rgb[i]), 0.0, 1.0);
+        const double srgb = v <= 0.0031308 ? 12.92 * v : 1.055 * std::pow(v, 1.0 / 2.4) - 0.055;
+        ASSERT_NEAR(png[i], srgb * 255.0, 0.5 + 1e-6) << "sample " << i;
+    }
+
+    const auto needsIt = run("compare " + folder.file("whole.png") + " " + folder.file("whole.png"));
+    EXPECT_EQ(needsIt.exitCode, 2) << needsIt.output;
+    EXPECT_NE(needsIt.output.find("cannot load the OpenImageIO module"), std::string::npos) << needsIt.output;
+    EXPECT_NE(needsIt.output.find("absent.so"), std::string::npos) << needsIt.output;
 }

@@ -1,0 +1,140 @@
+#include "renderer/image_files/exr_file.h"
+
+#include <OpenEXR/ImfChannelList.h>
+#include <OpenEXR/ImfFrameBuffer.h>
+#include <OpenEXR/ImfHeader.h>
+#include <OpenEXR/ImfInputFile.h>
+#include <OpenEXR/ImfOutputFile.h>
+#include <OpenEXR/ImfStringAttribute.h>
+#include <OpenEXR/ImfThreading.h>
+
+#include <Imath/half.h>
+
+#include <algorithm>
+#include <stdexcept>
+#include <thread>
+#include <type_traits>
+
+#include "renderer/film.h"
+
+namespace isotrace {
+
+namespace {
+
+// OpenEXR compresses and decompresses blocks in parallel on its own pool,
+// sized once for the machine.
+void useAllCores() {
+    static const bool once = [] {
+        Imf::setGlobalThreadCount(int(std::max(1u, std::thread::hardware_concurrency())));
+        return true;
+    }();
+    (void)once;
+}
+
+// Where a channel goes when read back: colour first, then the AOV channels
+// in the order renders write them, then any others by name.
+size_t channelRank(const std::string& name) {
+    static const std::vector<std::string> order = [] {
+        std::vector<std::string> names = {"R", "G", "B", "A", "Y"};
+        const AovLayout every(AovLayout::names());
+        names.insert(names.end(), every.channels().begin(), every.channels().end());
+        return names;
+    }();
+    const auto it = std::find(order.begin(), order.end(), name);
+    return it == order.end() ? order.size() : size_t(it - order.begin());
+}
+
+// Files larger than this (in float samples, 8 GB) are refused before
+// anything is allocated: a corrupt header can claim any size.
+constexpr double kMaximumSamples = double(1u << 31);
+
+// A slice addresses pixel (x, y) of the data window `window` at
+// base + x dx + y dy, where `first` is the window's first sample.
+template <typename Sample>
+Imf::Slice sliceOf(const Sample* first, size_t stride, const Imath::Box2i& window) {
+    const size_t dx = stride * sizeof(Sample), dy = dx * size_t(window.max.x - window.min.x + 1);
+    char* base = reinterpret_cast<char*>(const_cast<Sample*>(first)) - ptrdiff_t(window.min.x) * ptrdiff_t(dx) -
+                 ptrdiff_t(window.min.y) * ptrdiff_t(dy);
+    return Imf::Slice(std::is_same_v<Sample, half> ? Imf::HALF : Imf::FLOAT, base, dx, dy);
+}
+
+}  // namespace
+
+void writeExr(const std::string& path, const ImageFile& image, SampleFormat format) {
+    if (format == SampleFormat::Byte) throw std::invalid_argument("writeExr: EXR stores float or half samples");
+    useAllCores();
+    const int fullWidth = image.fullWidth > 0 ? image.fullWidth : image.width;
+    const int fullHeight = image.fullHeight > 0 ? image.fullHeight : image.height;
+    const Imath::Box2i display(Imath::V2i(0, 0), Imath::V2i(fullWidth - 1, fullHeight - 1));
+    const Imath::Box2i data(Imath::V2i(image.x, image.y),
+                            Imath::V2i(image.x + image.width - 1, image.y + image.height - 1));
+    try {
+        Imf::Header header(display, data);
+        header.compression() = Imf::ZIP_COMPRESSION;
+        for (const auto& [name, value] : image.strings) header.insert(name, Imf::StringAttribute(value));
+        // OpenEXR converts types when reading but not when writing: half
+        // files are written from half samples.
+        const bool toHalf = format == SampleFormat::Half;
+        std::vector<half> halves(toHalf ? image.pixels.size() : 0);
+        std::copy(image.pixels.begin(), image.pixels.begin() + ptrdiff_t(halves.size()), halves.begin());
+        Imf::FrameBuffer frame;
+        const size_t channels = image.channelNames.size();
+        for (size_t c = 0; c < channels; ++c) {
+            header.channels().insert(image.channelNames[c], Imf::Channel(toHalf ? Imf::HALF : Imf::FLOAT));
+            frame.insert(image.channelNames[c], toHalf ? sliceOf(halves.data() + c, channels, data)
+                                                       : sliceOf(image.pixels.data() + c, channels, data));
+        }
+        Imf::OutputFile file(path.c_str(), header);
+        file.setFrameBuffer(frame);
+        file.writePixels(image.height);
+    } catch (const std::exception& e) {
+        throw std::runtime_error(path + ": cannot write image: " + e.what());
+    }
+}
+
+ImageFile readExr(const std::string& path, bool withPixels) {
+    useAllCores();
+    try {
+        Imf::InputFile file(path.c_str());
+        const Imf::Header& header = file.header();
+        const Imath::Box2i data = header.dataWindow(), display = header.displayWindow();
+        // Windows are inclusive corners of any int values: sizes in 64 bits.
+        auto span = [](int lo, int hi) { return (long long)hi - lo + 1; };
+        const long long width = span(data.min.x, data.max.x), height = span(data.min.y, data.max.y);
+        const long long fullWidth = span(display.min.x, display.max.x), fullHeight = span(display.min.y, display.max.y);
+        if (width < 1 || height < 1 || fullWidth < 1 || fullHeight < 1 || width * height > (1ll << 31) ||
+            fullWidth * fullHeight > (1ll << 31))
+            throw std::runtime_error("the data or display window is empty or too large");
+        ImageFile image;
+        image.width = int(width);
+        image.height = int(height);
+        image.x = int((long long)data.min.x - display.min.x);
+        image.y = int((long long)data.min.y - display.min.y);
+        image.fullWidth = int(fullWidth);
+        image.fullHeight = int(fullHeight);
+        for (auto it = header.channels().begin(); it != header.channels().end(); ++it)
+            image.channelNames.push_back(it.name());
+        std::stable_sort(image.channelNames.begin(), image.channelNames.end(),
+                         [](const std::string& a, const std::string& b) { return channelRank(a) < channelRank(b); });
+        for (auto it = header.begin(); it != header.end(); ++it)
+            if (const auto* s = dynamic_cast<const Imf::StringAttribute*>(&it.attribute()))
+                image.strings.emplace_back(it.name(), s->value());
+        if (image.channelNames.empty()) throw std::runtime_error("the file has no channels");
+        const size_t channels = image.channelNames.size();
+        if (double(image.width) * double(image.height) * double(channels) > kMaximumSamples)
+            throw std::runtime_error("the image is too large (" + std::to_string(image.width) + "x" +
+                                     std::to_string(image.height) + ", " + std::to_string(channels) + " channels)");
+        if (!withPixels) return image;
+        image.pixels.assign(size_t(image.width) * image.height * channels, 0.0f);
+        Imf::FrameBuffer frame;
+        for (size_t c = 0; c < channels; ++c)
+            frame.insert(image.channelNames[c], sliceOf(image.pixels.data() + c, channels, data));
+        file.setFrameBuffer(frame);
+        file.readPixels(data.min.y, data.max.y);
+        return image;
+    } catch (const std::exception& e) {
+        throw std::runtime_error(path + ": cannot read image: " + e.what());
+    }
+}
+
+}  // namespace isotrace
