@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <optional>
 #include <stdexcept>
 
@@ -39,26 +40,39 @@ ImplicitSurface::ImplicitSurface(FieldProgram field, const ImplicitSurfaceOption
     globalLipschitz_ = field_.estimate(root).lipschitz;
 
     // Refine level by level, keeping only cells whose range holds zero.
+    // Each cell carries its field pruned to its box (exact there), so a
+    // child's range costs what its neighbourhood holds, not the whole field:
+    // 1,001 blobs no longer cost 1,001 kernel ranges per cell at every
+    // level. Without pruning, children share their parent's program.
     // Children are tested in parallel (a variational field's range is an
     // O(N) sum) and kept in a fixed order.
+    using Program = std::shared_ptr<const FieldProgram>;
     std::vector<Box3> level{root};
+    std::vector<Program> programs{std::make_shared<const FieldProgram>(field_)};
     for (int depth = 0; depth < options.maxDepth; ++depth) {
-        std::vector<std::array<bool, 8>> keep(level.size());
+        std::vector<std::array<Program, 8>> children(level.size());
         tbb::parallel_for(size_t(0), level.size(), [&](size_t i) {
             const Vec3 c = level[i].center();
             for (int k = 0; k < 8; ++k) {
                 const Box3 child(level[i].corner(k).cwiseMin(c), level[i].corner(k).cwiseMax(c));
-                keep[i][k] = field_.range(child).containsZero();
+                if (!programs[i]->range(child).containsZero()) continue;
+                children[i][k] = options.pruneCells ? std::make_shared<const FieldProgram>(programs[i]->prunedTo(child))
+                                                    : programs[i];
             }
         });
         std::vector<Box3> next;
+        std::vector<Program> nextPrograms;
         for (size_t i = 0; i < level.size(); ++i) {
             const Vec3 c = level[i].center();
             for (int k = 0; k < 8; ++k)
-                if (keep[i][k]) next.emplace_back(level[i].corner(k).cwiseMin(c), level[i].corner(k).cwiseMax(c));
+                if (children[i][k]) {
+                    next.emplace_back(level[i].corner(k).cwiseMin(c), level[i].corner(k).cwiseMax(c));
+                    nextPrograms.push_back(std::move(children[i][k]));
+                }
         }
         if (next.size() > options.cellBudget) break;
         level = std::move(next);
+        programs = std::move(nextPrograms);
     }
 
     // Each cell's program, bound and acceleration (local models for bare
@@ -73,11 +87,11 @@ ImplicitSurface::ImplicitSurface(FieldProgram field, const ImplicitSurfaceOption
     std::vector<Built> built(level.size());
     tbb::parallel_for(size_t(0), level.size(), [&](size_t i) {
         const Box3& box = level[i];
-        if (!field_.range(box).containsZero()) return;
+        if (!programs[i]->range(box).containsZero()) return;
         Built& b = built[i];
         b.keep = true;
         b.cell.box = box;
-        b.program = options.pruneCells ? field_.prunedTo(box) : field_;
+        b.program = *programs[i];
         b.cell.lipschitz = options.globalLipschitzOnly ? globalLipschitz_ : b.program.estimate(box).lipschitz;
         for (const auto& accelerator : options.cellAccelerators) {
             b.acceleration = accelerator->accelerate(b.program, box, diagonal);
