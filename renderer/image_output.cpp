@@ -80,8 +80,9 @@ void writeImage(const std::string& path, const Image& image, const ImageMetadata
     const size_t channels = 3 + extra;
     file.pixels.resize(pixels * channels);
     for (size_t p = 0; p < pixels; ++p) {
-        std::copy_n(&image.rgb[3 * p], 3, &file.pixels[p * channels]);
-        std::copy_n(&image.extra[extra * p], extra, &file.pixels[p * channels + 3]);
+        // Pointers, not &v[i]: without AOVs `extra` is empty (UBSan).
+        std::copy_n(image.rgb.data() + 3 * p, 3, file.pixels.data() + p * channels);
+        std::copy_n(image.extra.data() + extra * p, extra, file.pixels.data() + p * channels + 3);
     }
     writeImageFile(path, file, half ? SampleFormat::Half : SampleFormat::Float);
 }

@@ -29,5 +29,6 @@ export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 export LSAN_OPTIONS=suppressions=$PWD/tests/sanitizer_suppressions.txt:print_suppressions=0
 # Left out: the image regressions (above) and the installed-package test,
 # whose consumer is built without the sanitizers and so cannot link the
-# instrumented library. Sanitized tests run 3-10x slower: a longer timeout.
-ctest --test-dir build-sanitize --output-on-failure -j2 --timeout 1500 -E 'SceneRegression|installed_geometry_package'
+# instrumented library. (Sanitized tests run 3-10x slower: tests/CMakeLists.txt
+# gives them longer timeouts.)
+ctest --test-dir build-sanitize --output-on-failure -j2 -E 'SceneRegression|installed_geometry_package'
