@@ -16,6 +16,7 @@
 #include "bench_support.h"
 #include "geometry/tracing/implicit_surface.h"
 #include "renderer/camera.h"
+#include "renderer/render.h"
 #include "renderer/scene_loader.h"
 
 using namespace isotrace;
@@ -127,6 +128,28 @@ int main(int argc, char** argv) {
         const StepStatistics pruned = countSteps(*scene), whole = countSteps(*implicitObjectsRebuilt(*scene, noPruning));
         std::printf("many: node evaluations per ray %.0f pruned, %.0f unpruned (%.1fx fewer)\n", pruned.meanEvaluations,
                     whole.meanEvaluations, whole.meanEvaluations / std::max(pruned.meanEvaluations, 1e-9));
+    }
+
+    // A loose domain: the tangle's preset box (+-3) against one narrowed by
+    // hand to +-2.3 around its surface (within +-2.27), all rays of a small
+    // path-traced frame (secondary and shadow rays are where loose cells
+    // cost), on this thread alone so that its counters see every step.
+    {
+        std::printf("\ntangle, 96x96 at 8 spp, path, 1 thread: preset domain +-3 against +-2.3 by hand\n");
+        for (const std::string path : {dir + "/tangle.json",
+                                       std::string(ISOTRACE_SOURCE_DIR) + "/bench/scenes/tangle_tight_domain.json"}) {
+            std::unique_ptr<Scene> scene = loadScene(path);
+            scene->film.width = scene->film.height = 96;
+            scene->film.samplesPerPixel = 8;
+            RenderOptions options;
+            options.threads = 1;
+            options.quiet = true;
+            geometry::TraceCounters& counters = geometry::threadTraceCounters();
+            const uint64_t steps0 = counters.steps;
+            const double seconds = bench::medianSeconds(3, [&] { render(*scene, options); });
+            std::printf("  %-28s %.3f s, %.1f steps per sample (all rays)\n", path.substr(path.rfind('/') + 1).c_str(),
+                        seconds, double(counters.steps - steps0) / (3.0 * 96 * 96 * 8));
+        }
     }
 
     // 1,001 blobs: what cell building costs before the first ray, and what

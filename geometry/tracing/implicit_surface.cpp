@@ -23,6 +23,74 @@ TraceCounters& threadTraceCounters() {
     return counters;
 }
 
+namespace {
+
+// A domain is tightened only when the proven box holds less than this
+// fraction of its volume: a second refinement costs as much as the first.
+constexpr double kTighteningVolumeRatio = 0.75;
+// Bisections below a cell that shrink it to its surface (8 and 64 range tests).
+constexpr int kShrinkLevels = 2;
+
+struct RefinedLevel {
+    std::vector<Box3> boxes;
+    std::vector<std::shared_ptr<const FieldProgram>> programs;
+};
+
+// Refine level by level, keeping only cells whose range holds zero. Each
+// cell carries its field pruned to its box (exact there), so a child's
+// range costs what its neighbourhood holds, not the whole field: 1,001
+// blobs no longer cost 1,001 kernel ranges per cell at every level. Without
+// pruning, children share their parent's program. Children are tested in
+// parallel (a variational field's range is an O(N) sum) and kept in a fixed
+// order.
+RefinedLevel refineCells(const Box3& root, const FieldProgram& field, const ImplicitSurfaceOptions& options) {
+    using Program = std::shared_ptr<const FieldProgram>;
+    RefinedLevel level{{root}, {std::make_shared<const FieldProgram>(field)}};
+    for (int depth = 0; depth < options.maxDepth; ++depth) {
+        std::vector<std::array<Program, 8>> children(level.boxes.size());
+        tbb::parallel_for(size_t(0), level.boxes.size(), [&](size_t i) {
+            const Box3& parent = level.boxes[i];
+            const Vec3 c = parent.center();
+            for (int k = 0; k < 8; ++k) {
+                const Box3 child(parent.corner(k).cwiseMin(c), parent.corner(k).cwiseMax(c));
+                const FieldProgram& program = *level.programs[i];
+                if (!program.range(child).containsZero()) continue;
+                children[i][k] = options.pruneCells ? std::make_shared<const FieldProgram>(program.prunedTo(child))
+                                                    : level.programs[i];
+            }
+        });
+        RefinedLevel next;
+        for (size_t i = 0; i < level.boxes.size(); ++i) {
+            const Vec3 c = level.boxes[i].center();
+            for (int k = 0; k < 8; ++k)
+                if (children[i][k]) {
+                    next.boxes.emplace_back(level.boxes[i].corner(k).cwiseMin(c), level.boxes[i].corner(k).cwiseMax(c));
+                    next.programs.push_back(std::move(children[i][k]));
+                }
+        }
+        if (next.boxes.size() > options.cellBudget) break;
+        level = std::move(next);
+    }
+    return level;
+}
+
+// The part of `box` that can hold surface, to the resolution of `levels`
+// further bisections: the union of the sub-cells whose range holds zero
+// (empty when none does). A cell that hugs its surface marches with the
+// bound of the region the surface is in, not of the cell's far corners
+// (the tangle's gradient grows as x^3 away from it).
+Box3 shrunkToSurface(const FieldProgram& program, const Box3& box, int levels) {
+    if (!program.range(box).containsZero()) return {};
+    if (levels == 0) return box;
+    Box3 kept;
+    const Vec3 c = box.center();
+    for (int k = 0; k < 8; ++k)
+        kept.extend(shrunkToSurface(program, Box3(box.corner(k).cwiseMin(c), box.corner(k).cwiseMax(c)), levels - 1));
+    return kept;
+}
+
+}  // namespace
+
 ImplicitSurface::ImplicitSurface(FieldProgram field, const ImplicitSurfaceOptions& options)
     : field_(std::move(field)) {
     bounds_ = field_.bounds();
@@ -36,44 +104,25 @@ ImplicitSurface::ImplicitSurface(FieldProgram field, const ImplicitSurfaceOption
     const double diagonal = bounds_.extent().norm();
     settings_.epsilon = options.relativeEpsilon * diagonal;
     // Pad the root box so that surfaces touching the bounds lie strictly inside.
-    const Box3 root = bounds_.expanded(1e-4 * diagonal);
+    Box3 root = bounds_.expanded(1e-4 * diagonal);
     globalLipschitz_ = field_.estimate(root).lipschitz;
 
-    // Refine level by level, keeping only cells whose range holds zero.
-    // Each cell carries its field pruned to its box (exact there), so a
-    // child's range costs what its neighbourhood holds, not the whole field:
-    // 1,001 blobs no longer cost 1,001 kernel ranges per cell at every
-    // level. Without pruning, children share their parent's program.
-    // Children are tested in parallel (a variational field's range is an
-    // O(N) sum) and kept in a fixed order.
-    using Program = std::shared_ptr<const FieldProgram>;
-    std::vector<Box3> level{root};
-    std::vector<Program> programs{std::make_shared<const FieldProgram>(field_)};
-    for (int depth = 0; depth < options.maxDepth; ++depth) {
-        std::vector<std::array<Program, 8>> children(level.size());
-        tbb::parallel_for(size_t(0), level.size(), [&](size_t i) {
-            const Vec3 c = level[i].center();
-            for (int k = 0; k < 8; ++k) {
-                const Box3 child(level[i].corner(k).cwiseMin(c), level[i].corner(k).cwiseMax(c));
-                if (!programs[i]->range(child).containsZero()) continue;
-                children[i][k] = options.pruneCells ? std::make_shared<const FieldProgram>(programs[i]->prunedTo(child))
-                                                    : programs[i];
-            }
-        });
-        std::vector<Box3> next;
-        std::vector<Program> nextPrograms;
-        for (size_t i = 0; i < level.size(); ++i) {
-            const Vec3 c = level[i].center();
-            for (int k = 0; k < 8; ++k)
-                if (children[i][k]) {
-                    next.emplace_back(level[i].corner(k).cwiseMin(c), level[i].corner(k).cwiseMax(c));
-                    nextPrograms.push_back(std::move(children[i][k]));
-                }
+    // A loose domain (the tangle's preset box is +-3 around a surface within
+    // +-2.27) would cost every ray coarser cells and looser bounds. The
+    // cells that survive refinement hold every zero the interval ranges
+    // cannot exclude, so their union is a proven box for the surface:
+    // when it is clearly smaller, refine again from it.
+    RefinedLevel level = refineCells(root, field_, options);
+    Box3 tight;
+    for (const Box3& box : level.boxes) tight.extend(box);
+    if (!tight.isEmpty()) {
+        const Vec3 ratio = tight.extent().cwiseQuotient(root.extent());
+        if (ratio.prod() < kTighteningVolumeRatio) {
+            root = tight.expanded(1e-4 * tight.extent().norm());
+            level = refineCells(root, field_, options);
         }
-        if (next.size() > options.cellBudget) break;
-        level = std::move(next);
-        programs = std::move(nextPrograms);
     }
+    refinementRoot_ = root;
 
     // Each cell's program, bound and acceleration (local models for bare
     // variational fields) are independent: build them in parallel, keep
@@ -84,14 +133,14 @@ ImplicitSurface::ImplicitSurface(FieldProgram field, const ImplicitSurfaceOption
         FieldProgram program;
         std::optional<CellAcceleration> acceleration;
     };
-    std::vector<Built> built(level.size());
-    tbb::parallel_for(size_t(0), level.size(), [&](size_t i) {
-        const Box3& box = level[i];
-        if (!programs[i]->range(box).containsZero()) return;
+    std::vector<Built> built(level.boxes.size());
+    tbb::parallel_for(size_t(0), level.boxes.size(), [&](size_t i) {
+        const Box3 box = shrunkToSurface(*level.programs[i], level.boxes[i], kShrinkLevels);
+        if (box.isEmpty()) return;
         Built& b = built[i];
         b.keep = true;
         b.cell.box = box;
-        b.program = *programs[i];
+        b.program = *level.programs[i];
         b.cell.lipschitz = options.globalLipschitzOnly ? globalLipschitz_ : b.program.estimate(box).lipschitz;
         for (const auto& accelerator : options.cellAccelerators) {
             b.acceleration = accelerator->accelerate(b.program, box, diagonal);

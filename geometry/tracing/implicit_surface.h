@@ -53,6 +53,9 @@ public:
 
     const FieldProgram& field() const { return field_; }
     const Box3& bounds() const { return bounds_; }
+    /// The box the cells were refined from: the field's bounds, or the
+    /// smaller box interval ranges prove holds all of the surface.
+    const Box3& refinementRoot() const { return refinementRoot_; }
     const std::vector<SurfaceCell>& cells() const { return cells_; }
     const FieldProgram& cellProgram(const SurfaceCell& c) const { return programs_[c.program]; }
     const TraceSettings& traceSettings() const { return settings_; }
@@ -76,6 +79,7 @@ private:
     unsigned rayMask_ = 0xFFFFFFFFu;
     FieldProgram field_;
     Box3 bounds_;
+    Box3 refinementRoot_;
     std::vector<SurfaceCell> cells_;
     std::vector<FieldProgram> programs_;
     std::vector<std::unique_ptr<const CellTracer>> tracers_;

@@ -1,5 +1,7 @@
 #include "geometry/tracing/implicit_surface.h"
 
+#include <cmath>
+
 #include <gtest/gtest.h>
 
 #include "support/compile_field.h"
@@ -22,4 +24,31 @@ TEST(ImplicitSurface, KeepsOnlyCellsThatMayHoldSurface) {
 
 TEST(ImplicitSurface, UnboundedFieldIsRefused) {
     EXPECT_THROW(ImplicitSurface(compileField(R"({"type": "plane"})")), std::invalid_argument);
+}
+
+// Goursat's tangle x^4 - 5x^2 + y^4 - 5y^2 + z^4 - 5z^2 + 11.8 = 0 reaches
+// farthest along x where y^2 = z^2 = 2.5: x^2 = (5 + sqrt(27.8)) / 2.
+TEST(ImplicitSurface, LooseDomainIsTightenedToTheProvenSurfaceBox) {
+    ImplicitSurface surface(
+        compileField(R"({"type": "polynomial", "preset": "tangle", "domain": [[-3, -3, -3], [3, 3, 3]]})"));
+    const double reach = std::sqrt((5 + std::sqrt(27.8)) / 2), side = std::sqrt(2.5);
+    const Box3& root = surface.refinementRoot();
+    EXPECT_LT(root.extent().maxCoeff(), 0.9 * 6);
+    for (int sx : {-1, 1})
+        EXPECT_TRUE(root.contains(Vec3(sx * reach, side, -side)));
+    // Cells hug the surface: their union reaches a little past it (interval
+    // ranges of a quartic overestimate), far less than the domain's 3.
+    Box3 cells;
+    for (const SurfaceCell& cell : surface.cells()) cells.extend(cell.box);
+    EXPECT_LT(cells.upper.maxCoeff(), reach + 0.25);
+    EXPECT_GT(cells.lower.minCoeff(), -reach - 0.25);
+    // The farthest point is still found, head on, from outside the tight box.
+    const TraceResult hit = surface.intersect(Vec3(5, side, side), Vec3(-1, 0, 0), 0, 10);
+    ASSERT_TRUE(hit.hit);
+    EXPECT_NEAR(hit.t, 5 - reach, 1e-5);
+}
+
+TEST(ImplicitSurface, TightDomainIsKept) {
+    ImplicitSurface surface(compileField(R"({"type": "sphere", "radius": 1})"));
+    EXPECT_LE((surface.refinementRoot().extent() - surface.bounds().extent()).cwiseAbs().maxCoeff(), 1e-3);
 }
