@@ -62,6 +62,18 @@ TEST(MeshFile, CountsMustFitInTheFile) {
               std::string::npos);
 }
 
+// Assimp's PLY reader never returned from a header without "end_header"
+// (a fuzzer's find: "end_head"); it must fail at once, naming the place.
+TEST(MeshFile, PlyHeaderMustEnd) {
+    TemporaryFolder folder;
+    const std::string ply = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                            "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_head\n"
+                            "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+    const std::string error = errorOf(folder.write("unended.ply", ply));
+    EXPECT_NE(error.find("unended.ply"), std::string::npos) << error;
+    EXPECT_NE(error.find("line 13: no \"end_header\" line by here"), std::string::npos) << error;
+}
+
 TEST(MeshFile, OnlyTheDocumentedFormats) {
     TemporaryFolder folder;
     EXPECT_NE(errorOf(folder.write("part.stl", "solid x\nendsolid x\n")).find("unknown mesh format \".stl\""),
