@@ -28,6 +28,9 @@ struct TraceSettings {
     /// and roots are refined to well below it.
     double epsilon = 1e-6;
     int maxSteps = 2000;
+    /// Steps go up to this multiple of the proven safe distance while each
+    /// is justified after the fact (1: plain sphere tracing).
+    double overRelaxation = 1.6;
 };
 
 /// Marches origin + t * direction for t in [tStart, tEnd]. `lipschitz` must

@@ -147,6 +147,37 @@ TEST(SphereTracer, RespectsTheRayInterval) {
     EXPECT_NEAR(far.t, 4.0, 1e-6);
 }
 
+// A relaxed step from the origin (1.6 x 1.95 = 3.12) would land past a
+// small sphere at x = 2; the ball around its end (radius 1.07) does not meet
+// the first ball, so the step must be refused and the small sphere found.
+TEST(SphereTracer, OverRelaxedStepThatLeavesAGapIsRefused) {
+    const FieldProgram field = compileField(
+        R"({"type": "union", "of": [{"type": "sphere", "center": [2, 0, 0], "radius": 0.05},
+                                    {"type": "sphere", "center": [6, 0, 0], "radius": 1}]})");
+    TraceSettings settings;
+    ASSERT_GT(settings.overRelaxation, 1.0);
+    const TraceResult r = sphereTrace(field, 1.0, Vec3(0, 0, 0), Vec3(1, 0, 0), 0.0, 10.0, settings);
+    ASSERT_TRUE(r.hit);
+    EXPECT_NEAR(r.t, 1.95, 1e-6);
+}
+
+// Justified relaxed steps save evaluations where plain steps crawl: a ray
+// meeting the plane y = 0 at a grazing angle (sin 0.1), where each plain
+// step shrinks the distance by 10% and each relaxed one by 16%.
+TEST(SphereTracer, OverRelaxationTakesFewerStepsAtGrazingAngles) {
+    const FieldProgram field = compileField(R"({"type": "plane"})");
+    TraceSettings plain, relaxed;
+    plain.overRelaxation = 1.0;
+    const Vec3 o(-10, 1, 0), d = Vec3(std::cos(0.1), -std::sin(0.1), 0);
+    const TraceResult a = sphereTrace(field, 1.0, o, d, 0.0, 20.0, plain);
+    const TraceResult b = sphereTrace(field, 1.0, o, d, 0.0, 20.0, relaxed);
+    ASSERT_TRUE(a.hit);
+    ASSERT_TRUE(b.hit);
+    EXPECT_NEAR(b.t, a.t, 1e-6);
+    EXPECT_NEAR(b.t, 1 / std::sin(0.1), 1e-6);
+    EXPECT_LT(b.steps, 0.8 * a.steps);
+}
+
 // For every field type, the sphere tracer (through Embree) and the slow,
 // robust interval-bisection reference agree on hit or miss and on the
 // nearest hit, for 10,000 random rays.
