@@ -69,6 +69,10 @@ std::vector<BadInputCase> inputFileCases() {
                  "ply\nformat ascii 1.0\nelement vertex 1000000000\nproperty float x\nproperty float y\n"
                  "property float z\nend_header\n0 0 0\n",
                  "fit m.ply -o out.json", {"m.ply"}));
+    add(withFile("fit_ply_header_unended", "m.ply",
+                 "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+                 "element face 1\nproperty list uchar int vertex_indices\nend_head\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n",
+                 "fit m.ply -o out.json", {"m.ply", "end_header"}));
 
     // Point sets to fit.
     const std::pair<const char*, std::string> pointFiles[] = {
