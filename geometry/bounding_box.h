@@ -50,6 +50,11 @@ struct Box3 {
     Vec3 corner(int i) const {
         return {(i & 1) ? upper.x() : lower.x(), (i & 2) ? upper.y() : lower.y(), (i & 4) ? upper.z() : lower.z()};
     }
+    /// The eighth of the box between corner i and the centre (octree children).
+    Box3 octant(int i) const {
+        const Vec3 c = center(), k = corner(i);
+        return {k.cwiseMin(c), k.cwiseMax(c)};
+    }
 
     /// Smallest and largest distance from p to a point of the box.
     Interval distanceRange(const Vec3& p) const {

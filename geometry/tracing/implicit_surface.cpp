@@ -49,25 +49,21 @@ RefinedLevel refineCells(const Box3& root, const FieldProgram& field, const Impl
     for (int depth = 0; depth < options.maxDepth; ++depth) {
         std::vector<std::array<Program, 8>> children(level.boxes.size());
         tbb::parallel_for(size_t(0), level.boxes.size(), [&](size_t i) {
-            const Box3& parent = level.boxes[i];
-            const Vec3 c = parent.center();
+            const FieldProgram& program = *level.programs[i];
             for (int k = 0; k < 8; ++k) {
-                const Box3 child(parent.corner(k).cwiseMin(c), parent.corner(k).cwiseMax(c));
-                const FieldProgram& program = *level.programs[i];
+                const Box3 child = level.boxes[i].octant(k);
                 if (!program.range(child).containsZero()) continue;
                 children[i][k] = options.pruneCells ? std::make_shared<const FieldProgram>(program.prunedTo(child))
                                                     : level.programs[i];
             }
         });
         RefinedLevel next;
-        for (size_t i = 0; i < level.boxes.size(); ++i) {
-            const Vec3 c = level.boxes[i].center();
+        for (size_t i = 0; i < level.boxes.size(); ++i)
             for (int k = 0; k < 8; ++k)
                 if (children[i][k]) {
-                    next.boxes.emplace_back(level.boxes[i].corner(k).cwiseMin(c), level.boxes[i].corner(k).cwiseMax(c));
+                    next.boxes.push_back(level.boxes[i].octant(k));
                     next.programs.push_back(std::move(children[i][k]));
                 }
-        }
         if (next.boxes.size() > options.cellBudget) break;
         level = std::move(next);
     }
@@ -83,9 +79,7 @@ Box3 shrunkToSurface(const FieldProgram& program, const Box3& box, int levels) {
     if (!program.range(box).containsZero()) return {};
     if (levels == 0) return box;
     Box3 kept;
-    const Vec3 c = box.center();
-    for (int k = 0; k < 8; ++k)
-        kept.extend(shrunkToSurface(program, Box3(box.corner(k).cwiseMin(c), box.corner(k).cwiseMax(c)), levels - 1));
+    for (int k = 0; k < 8; ++k) kept.extend(shrunkToSurface(program, box.octant(k), levels - 1));
     return kept;
 }
 

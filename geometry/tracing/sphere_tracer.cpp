@@ -63,8 +63,12 @@ TraceResult sphereTrace(const FieldProgram& field, double lipschitz, const Vec3&
     // (one evaluation lost) and relaxation stays off for this march, as the
     // surface is near.
     double omega = settings.overRelaxation;
+    // The ray parameter span around a point that holds no zero.
+    auto provenRadius = [&](double value, double safeDistance) {
+        return std::max(std::abs(value) * stepScale, safeDistance / speed);
+    };
     while (steps < settings.maxSteps) {
-        const double radius = std::max(std::abs(f) * stepScale, safe / speed);  // zero-free around t
+        const double radius = provenRadius(f, safe);
         const bool forced = radius < minStep;  // a forced step may skip a sliver thinner than epsilon
         if (!forced && t + radius >= tEnd) return finish(false, 0.0);  // the ball reaches past tEnd
         double tNext = std::min(t + (forced ? minStep : omega * radius), tEnd);
@@ -72,8 +76,7 @@ TraceResult sphereTrace(const FieldProgram& field, double lipschitz, const Vec3&
         double fNext = field.valueAndSafeDistance(origin + tNext * direction, safeNext);
         ++steps;
         if (!forced && tNext - t > radius) {
-            const double radiusNext = std::max(std::abs(fNext) * stepScale, safeNext / speed);
-            if (fNext == 0.0 || differentSigns(f, fNext) || radius + radiusNext <= tNext - t) {
+            if (fNext == 0.0 || differentSigns(f, fNext) || radius + provenRadius(fNext, safeNext) <= tNext - t) {
                 tNext = t + radius;
                 fNext = field.valueAndSafeDistance(origin + tNext * direction, safeNext);
                 ++steps;

@@ -298,10 +298,8 @@ bool collectSurfaceModels(const VariationalField& field, const Box3& box, double
         out.push_back(std::move(*patch));
         return true;
     }
-    const Vec3 c = box.center();
     for (int i = 0; i < 8; ++i)
-        if (!collectSurfaceModels(field, Box3(box.corner(i).cwiseMin(c), box.corner(i).cwiseMax(c)), tolerance,
-                                  depthLeft - 1, &*patch, out))
+        if (!collectSurfaceModels(field, box.octant(i), tolerance, depthLeft - 1, &*patch, out))
             return false;
     return true;
 }
