@@ -43,6 +43,18 @@ double AreaLight::importance(const LightSampleContext& context) const {
     return luminance(emission_.radiance) * totalArea_ * cosLight * cosReceiver / std::max(d * d, radius_ * radius_);
 }
 
+int AreaLight::sideOfPlane(const Vec3& point, const Vec3& normal) const {
+    int side = 0;
+    for (const auto& t : triangles_)
+        for (const Vec3& v : t) {
+            const double h = normal.dot(v - point);
+            const int s = h > 0 ? 1 : h < 0 ? -1 : 0;
+            if (s == 0 || (side != 0 && s != side)) return 0;
+            side = s;
+        }
+    return side;
+}
+
 LightSample AreaLight::sample(const LightSampleContext& context, const Eigen::Vector2d& u) const {
     const Vec3& p = context.p;
     LightSample s;

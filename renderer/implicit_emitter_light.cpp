@@ -77,6 +77,12 @@ double ImplicitEmitterLight::pdf(const LightSampleContext& context, const Vec3& 
     return radius_ > 0 ? directionPdf(context.p, wi) : 0.0;
 }
 
+int ImplicitEmitterLight::sideOfPlane(const Vec3& point, const Vec3& normal) const {
+    const double h = normal.dot(center_ - point);
+    if (!(radius_ > 0) || std::abs(h) <= radius_) return 0;
+    return h > 0 ? 1 : -1;
+}
+
 double ImplicitEmitterLight::importance(const LightSampleContext& context) const {
     if (!(radius_ > 0)) return 0.0;
     // A uniformly emitting sphere of the bounding radius: pi L (r/d)^2 on a

@@ -44,6 +44,11 @@ inline Vec3 offsetOrigin(const Vec3& p, const Vec3& n, const Vec3& w) {
 /// unshifted point it would reach past a light seen at a grazing angle and
 /// hit the light itself.
 bool unoccluded(const Scene& scene, const Vec3& p, const Vec3& ng, const LightSample& sample);
+/// What of a light sample reaches surface point p: one or zero as
+/// unoccluded() finds, or for a light seen in a plane mirror the mirror's
+/// reflectance where the sample's ray meets it, when the ray meets the
+/// mirror object first and nothing blocks the way from there to the light.
+RGB shadowRayWeight(const Scene& scene, const Vec3& p, const Vec3& ng, const LightSample& sample);
 /// The shading frame at a hit seen along direction wo: normals turned to
 /// wo's side (surfaces are two-sided), the side wo is on, and what
 /// textures look up. `footprint` is the world-space width a pixel covers

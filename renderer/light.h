@@ -28,6 +28,10 @@ struct LightSample {
     double distance = 0.0;       ///< to the sampled point; infinity for directional and environment
     double pdf = 0.0;            ///< solid-angle density (1 for delta lights)
     bool isDelta = false;
+    /// A light seen in a plane mirror (mirror_image_light.h): the index of
+    /// the mirror in Scene::planeMirrors; `point` is then the image of the
+    /// point on the light.
+    int mirror = -1;
 };
 
 class Light {
@@ -54,6 +58,11 @@ public:
     /// contribute (zero only where it cannot: behind a one-sided emitter,
     /// below the surface's horizon).
     virtual double importance(const LightSampleContext& context) const = 0;
+    /// Which side of a plane (through `point`, unit `normal`) the light
+    /// gives off light from: +1 wholly in front, -1 wholly behind, 0 across
+    /// it or all around (the environment). Lights are imaged in plane
+    /// mirrors on their own side only.
+    virtual int sideOfPlane(const Vec3& point, const Vec3& normal) const { return 0; }
     /// Radiance arriving along a ray that leaves the scene in direction w.
     virtual RGB escapedRadiance(const Vec3& w) const { return RGB::Zero(); }
     /// The mean radiance of an infinite light over all directions (the

@@ -15,6 +15,7 @@
 #include "renderer/light.h"
 #include "renderer/light_sampler.h"
 #include "renderer/material.h"
+#include "renderer/mirror_image_light.h"
 #include "renderer/triangle_mesh.h"
 
 namespace isotrace {
@@ -32,6 +33,7 @@ struct SceneObject {
     int shape = 0;  ///< index into Scene::meshes, Scene::surfaces or Scene::discs
     int material = 0;
     int areaLight = -1;  ///< index into Scene::lights for emissive objects
+    int planeMirror = -1;  ///< index into Scene::planeMirrors for flat mirrors
     Mat4 worldFromObject = Mat4::Identity();
     Mat3 normalFromObject = Mat3::Identity();  ///< inverse transpose of the linear part
     Mat4 objectFromWorld = Mat4::Identity();   ///< set by Scene::commit
@@ -74,6 +76,8 @@ public:
     std::vector<SceneObject> objects;
     std::vector<std::unique_ptr<const Light>> lights;
     int environmentLight = -1;
+    /// Flat mirrors, whose lights' images follow the scene's own lights.
+    std::vector<PlaneMirror> planeMirrors;
     /// Chooses lights for next-event estimation (built with the scene).
     LightSampler lightSampler;
     /// Things a user should hear about that are not errors (an empty mesh).

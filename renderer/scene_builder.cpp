@@ -138,6 +138,7 @@ std::unique_ptr<Scene> SceneBuilder::build() {
         o.areaLight = int(scene_->lights.size());
         scene_->lights.push_back(std::make_unique<ImplicitEmitterLight>(*scene_, o, *m.emission));
     }
+    addMirrorImages(*scene_);
     scene_->lightSampler = LightSampler(scene_->lights);
     return std::move(scene_);
 }

@@ -25,8 +25,13 @@ public:
         Ray ray = cameraRay;
         bool countEmissionFully = true;  // camera rays and specular bounces cannot sample lights
         double bsdfPdf = 0.0;
-        LightSampleContext previous{ray.origin, Vec3::Zero()};  // where the current ray left a surface
+        // The last non-delta vertex, where lights were last sampled.
+        LightSampleContext previous{ray.origin, Vec3::Zero()};
         double previousImportance = 0.0;  // the lights' total importance there
+        // A plane mirror the path bounced off straight after `previous`:
+        // lights met next were also sampled there, as their images.
+        int viaMirror = -1;
+        Vec3 directionAtPrevious = Vec3::Zero();
         // Radiance scaling by refraction (1 / eta^2 per crossing), which
         // Russian roulette must not mistake for a loss or gain of energy.
         double etaScale = 1.0;
@@ -58,6 +63,13 @@ public:
                             lights[object.areaLight]->pdf(previous, ray.direction, hit.position, hit.geometricNormal) *
                             scene.lightSampler.pmf(previous, object.areaLight, previousImportance);
                         w = powerHeuristic(bsdfPdf, lightPdf);
+                    } else if (viaMirror >= 0 && object.areaLight >= 0) {
+                        if (const int image = scene.planeMirrors[viaMirror].imageOfLight[object.areaLight]; image >= 0) {
+                            const double imagePdf = lights[image]->pdf(previous, directionAtPrevious, hit.position,
+                                                                       hit.geometricNormal) *
+                                                    scene.lightSampler.pmf(previous, image, previousImportance);
+                            w = powerHeuristic(bsdfPdf, imagePdf);
+                        }
                     }
                     L += beta * w * material.emission->radiance;
                 }
@@ -73,11 +85,12 @@ public:
             if (bsdf.isDeltaOnly()) {
                 const std::optional<BSDFSample> s = bsdf.sample(sp, wo, sampler);
                 if (!s || !sameSide(ng, ns, s->wi)) break;
+                viaMirror = countEmissionFully ? -1 : object.planeMirror;
+                directionAtPrevious = ray.direction;
                 beta *= s->weight;
                 etaScale *= s->etaRatio * s->etaRatio;
                 ray = {offsetOrigin(hit.position, ng, s->wi), s->wi};
                 countEmissionFully = true;
-                previous = {hit.position, bsdf.transmits() ? Vec3(Vec3::Zero()) : ns};
                 continue;
             }
 
@@ -94,10 +107,11 @@ public:
                 const LightSample ls = light.sample(here, uSample);
                 if (ls.pdf > 0 && sameSide(ng, ns, ls.direction) && (ls.radiance > 0).any()) {
                     const RGB f = bsdf.evaluate(sp, wo, ls.direction);
-                    if ((f > 0).any() && unoccluded(scene, hit.position, ng, ls)) {
+                    const RGB through = (f > 0).any() ? shadowRayWeight(scene, hit.position, ng, ls) : RGB::Zero();
+                    if ((through > 0).any()) {
                         const double lightPdf = ls.pdf * lightChoice;
                         const double w = ls.isDelta ? 1.0 : powerHeuristic(lightPdf, bsdf.pdf(sp, wo, ls.direction));
-                        L += beta * f * ls.radiance * (w * std::abs(ns.dot(ls.direction)) / lightPdf);
+                        L += beta * f * through * ls.radiance * (w * std::abs(ns.dot(ls.direction)) / lightPdf);
                     }
                 }
             }
@@ -109,6 +123,7 @@ public:
             etaScale *= s->etaRatio * s->etaRatio;
             bsdfPdf = s->pdf;
             countEmissionFully = s->delta;
+            viaMirror = -1;
             previous = here;
             previousImportance = importance;
             ray = {offsetOrigin(hit.position, ng, s->wi), s->wi};

@@ -60,8 +60,8 @@ private:
             const LightSample ls = light->sample(here, sampler.get2D());
             if (!(ls.pdf > 0) || ng.dot(ls.direction) * ns.dot(ls.direction) <= 0) continue;
             const RGB f = bsdf.evaluate(sp, wo, ls.direction);
-            if ((f > 0).any() && unoccluded(scene, hit.position, ng, ls))
-                L += beta * f * ls.radiance * (std::abs(ns.dot(ls.direction)) / ls.pdf);
+            if ((f > 0).any()) L += beta * f * shadowRayWeight(scene, hit.position, ng, ls) * ls.radiance *
+                                   (std::abs(ns.dot(ls.direction)) / ls.pdf);
         }
         return L;
     }

@@ -27,6 +27,11 @@ public:
         s.isDelta = true;
         return s;
     }
+    // The light comes from infinitely far on the side it travels away from.
+    int sideOfPlane(const Vec3&, const Vec3& normal) const override {
+        const double c = -normal.dot(direction_);
+        return c > 0 ? 1 : c < 0 ? -1 : 0;
+    }
     double importance(const LightSampleContext& context) const override {
         const double cosReceiver = context.n.isZero() ? 1.0 : -context.n.dot(direction_);
         return cosReceiver > 0 ? luminance(irradiance_) * cosReceiver : 0.0;

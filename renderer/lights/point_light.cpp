@@ -25,6 +25,10 @@ public:
         s.isDelta = true;
         return s;
     }
+    int sideOfPlane(const Vec3& point, const Vec3& normal) const override {
+        const double h = normal.dot(position_ - point);
+        return h > 0 ? 1 : h < 0 ? -1 : 0;
+    }
     double importance(const LightSampleContext& context) const override {
         const Vec3 d = position_ - context.p;
         const double d2 = d.squaredNorm();

@@ -10,12 +10,14 @@
 #include "renderer/render.h"
 #include "renderer/scene_builder.h"
 #include "support/floor_scene.h"
+#include "support/polygon_irradiance.h"
 #include "support/scene_files.h"
 
 using namespace isotrace;
 using isotrace::testing::floorScene;
 using isotrace::testing::radianceLookingDown;
 using isotrace::testing::loadSceneText;
+using isotrace::testing::polygonIrradiance;
 using isotrace::testing::TemporaryFolder;
 
 namespace {
@@ -187,23 +189,6 @@ TEST(DirectLighting, DiskLightOverPlaneMatchesClosedForm) {
         EXPECT_NEAR(image.pixel(4, 4)[0], expected, 0.01 * expected) << integrator;
     }
 }
-
-namespace {
-
-// Irradiance at x (surface normal n) from a Lambertian polygon of radiance L
-// (Lambert 1760): E = L/2 |sum_i angle(v_i, v_i+1) n . unit(v_i x v_i+1)|,
-// v_i the vertices relative to x.
-double polygonIrradiance(const Vec3& x, const Vec3& n, const std::vector<Vec3>& polygon, double radiance) {
-    double sum = 0.0;
-    for (size_t i = 0; i < polygon.size(); ++i) {
-        const Vec3 a = (polygon[i] - x).normalized(), b = (polygon[(i + 1) % polygon.size()] - x).normalized();
-        const Vec3 c = a.cross(b);
-        sum += std::acos(std::clamp(a.dot(b), -1.0, 1.0)) * n.dot(c.normalized());
-    }
-    return 0.5 * radiance * std::abs(sum);
-}
-
-}  // namespace
 
 // A 1 m^2 quad light and a disk of the same area at y = 3 face down onto a
 // floor at y = -1. Floor points up to 30 m from the axis see them from 45 to
