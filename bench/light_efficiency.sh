@@ -23,16 +23,20 @@ for scene in bench/scenes/sphere_quad.json scenes/showcase.json; do
     # the figure measures noise, not that difference.
     ref="$scratch/$name-ref-$b.exr"
     "$bin" render "$scene" "${size[@]}" --spp 8192 --seed 99 --threads 2 -q --no-preview -o "$ref"
-    times=(); mse=0
+    times=(); mse=0; mseFirst=0
     for seed in 1 2 3 4 5; do
       out="$scratch/$name-$seed.exr"
       "$bin" render "$scene" "${size[@]}" --spp 64 --seed "$seed" --threads 2 -q --no-preview -o "$out"
       times+=("$(oiiotool --info -v "$out" | sed -n 's/.*isotrace:render_seconds: "\(.*\)"/\1/p')")
       rmse=$(build/isotrace compare "$out" "$ref" --metric rmse --fail 1e30 --json | sed -n 's/.*"rmse": \(.*\),/\1/p')
       mse=$(awk -v a="$mse" -v r="$rmse" 'BEGIN { print a + r * r / 5 }')
+      rmse=$(build/isotrace compare "$out" "$scratch/$name-ref-0.exr" --metric rmse --fail 1e30 --json | sed -n 's/.*"rmse": \(.*\),/\1/p')
+      mseFirst=$(awk -v a="$mseFirst" -v r="$rmse" 'BEGIN { print a + r * r / 5 }')
     done
     median=$(printf '%s\n' "${times[@]}" | sort -g | sed -n 3p)
-    awk -v n="$name" -v b="$bin" -v t="$median" -v m="$mse" \
-      'BEGIN { printf "%-12s %-40s render %.3f s  RMSE^2 %.4g  efficiency %.4g\n", n, b, t, m, 1 / (m * t) }'
+    # Against its own converged render (noise alone), and against the first
+    # binary's (noise and any bias, when the first is the newer and right one).
+    awk -v n="$name" -v b="$bin" -v t="$median" -v m="$mse" -v f="$mseFirst" \
+      'BEGIN { printf "%-12s %-40s render %.3f s  RMSE^2 %.4g  efficiency %.4g  (against the first binary: RMSE^2 %.4g, efficiency %.4g)\n", n, b, t, m, 1 / (m * t), f, 1 / (f * t) }'
   done
 done

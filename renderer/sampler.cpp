@@ -25,16 +25,25 @@ inline uint32_t laineKarrasPermutation(uint32_t x, uint32_t seed) {
     return x;
 }
 
-// Direction numbers of Sobol dimension 1 (primitive polynomial x + 1):
-// v_1 = 1/2, v_k = v_{k-1} xor v_{k-1} / 2.
-const std::array<uint32_t, 32>& dimension1Directions() {
-    static const std::array<uint32_t, 32> v = [] {
-        std::array<uint32_t, 32> d{};
-        d[0] = 1u << 31;
-        for (int k = 1; k < 32; ++k) d[k] = d[k - 1] ^ (d[k - 1] >> 1);
-        return d;
+// Sobol dimension 1 (primitive polynomial x + 1) as four tables, one per
+// byte of the index: entry b of table j is the xor of the direction numbers
+// v_{8j+k} for the bits k set in b (v_1 = 1/2, v_k = v_{k-1} xor v_{k-1} / 2).
+// The scrambled index has all 32 bits in play, and a loop over them with a
+// branch per bit took an eighth of a small render's time.
+using Dimension1Tables = std::array<std::array<uint32_t, 256>, 4>;
+const Dimension1Tables& dimension1Tables() {
+    static const Dimension1Tables tables = [] {
+        std::array<uint32_t, 32> v{};
+        v[0] = 1u << 31;
+        for (int k = 1; k < 32; ++k) v[k] = v[k - 1] ^ (v[k - 1] >> 1);
+        Dimension1Tables t{};
+        for (int j = 0; j < 4; ++j)
+            for (uint32_t b = 0; b < 256; ++b)
+                for (int k = 0; k < 8; ++k)
+                    if (b & (1u << k)) t[j][b] ^= v[8 * j + k];
+        return t;
     }();
-    return v;
+    return tables;
 }
 
 constexpr double kToUnit = 1.0 / 4294967296.0;  // 2^-32
@@ -49,11 +58,8 @@ uint32_t owenScramble(uint32_t v, uint32_t seed) { return reverseBits(laineKarra
 uint32_t sobolDimension0(uint32_t index) { return reverseBits(index); }
 
 uint32_t sobolDimension1(uint32_t index) {
-    const auto& v = dimension1Directions();
-    uint32_t result = 0;
-    for (int k = 0; index; ++k, index >>= 1)
-        if (index & 1u) result ^= v[k];
-    return result;
+    const Dimension1Tables& t = dimension1Tables();
+    return t[0][index & 0xffu] ^ t[1][(index >> 8) & 0xffu] ^ t[2][(index >> 16) & 0xffu] ^ t[3][index >> 24];
 }
 
 double Sampler::get1D() {

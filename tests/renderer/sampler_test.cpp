@@ -61,6 +61,24 @@ TEST(Sampler, SobolPairsAreStratifiedInEveryElementaryGrid) {
     }
 }
 
+// Dimension 1 is read from byte tables; the definition is the xor of the
+// direction numbers v_k (v_1 = 1/2, v_k = v_{k-1} xor v_{k-1} / 2) of the
+// index's set bits, and all 32 bits of a scrambled index are in play.
+TEST(Sampler, SobolDimension1MatchesItsDirectionNumbers) {
+    uint32_t v[32];
+    v[0] = 1u << 31;
+    for (int k = 1; k < 32; ++k) v[k] = v[k - 1] ^ (v[k - 1] >> 1);
+    uint64_t state = 12345;
+    for (int i = 0; i < 10000; ++i) {
+        state = mixBits(state + 1);
+        const uint32_t index = i < 64 ? uint32_t(i) : static_cast<uint32_t>(state >> 32);
+        uint32_t expected = 0;
+        for (int k = 0; k < 32; ++k)
+            if (index & (1u << k)) expected ^= v[k];
+        ASSERT_EQ(sobolDimension1(index), expected) << "index " << index;
+    }
+}
+
 TEST(Sampler, IndependentValuesHaveTheRightMoments) {
     Sampler s(SamplerType::Independent, 4);
     double sum = 0, sum2 = 0;
