@@ -257,8 +257,13 @@ Interval FieldProgram::range(const Box3& box) const {
 }
 
 FieldProgram FieldProgram::prunedTo(const Box3& box) const {
+    // Operands are dropped by their ranges alone; a program without binary
+    // operations (one blob sum, say) has none to drop and skips even those.
+    const bool hasBinary = std::any_of(code_.begin(), code_.end(), [](const FieldInstruction& in) {
+        return in.op == FieldOp::Min || in.op == FieldOp::Max || in.op == FieldOp::SmoothMin || in.op == FieldOp::SmoothMax;
+    });
     std::vector<BoxEstimate> slots;
-    estimateSlots(box, slots);
+    if (hasBinary) estimateSlots(box, slots, false);
 
     // Which operand each slot reduces to inside the box (itself if none).
     const size_t n = code_.size();
@@ -266,6 +271,7 @@ FieldProgram FieldProgram::prunedTo(const Box3& box) const {
     for (uint32_t i = 0; i < n; ++i) {
         const FieldInstruction& in = code_[i];
         forward[i] = i;
+        if (!hasBinary) continue;
         const Interval a = slots[in.a].range;
         const Interval b = in.op == FieldOp::Leaf || in.op == FieldOp::Negate || in.op == FieldOp::AddConstant
                                ? Interval()

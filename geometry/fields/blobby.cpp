@@ -1,5 +1,6 @@
 #include "geometry/fields/blobby.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace isotrace::geometry {
@@ -128,9 +129,17 @@ Box3 BlobbyField::bounds() const {
 }
 
 BlobbyField BlobbyField::prunedTo(const Box3& box) const {
+    // Kept: the blobs whose support reaches into the box. Counted first so
+    // that the list is allocated once (cells are pruned by the thousand).
+    auto reaches = [&](const Blob& b) {
+        const Vec3 outside = (box.lower - b.center).cwiseMax(b.center - box.upper).cwiseMax(0.0);
+        const double reach = b.radius * support();
+        return outside.squaredNorm() < reach * reach;
+    };
     BlobbyField out{kernel, threshold, blobbiness, {}};
+    out.blobs.reserve(size_t(std::count_if(blobs.begin(), blobs.end(), reaches)));
     for (const Blob& b : blobs)
-        if (box.distanceRange(b.center).lo < b.radius * support()) out.blobs.push_back(b);
+        if (reaches(b)) out.blobs.push_back(b);
     return out;
 }
 
