@@ -34,6 +34,7 @@ int main() {
 
     std::printf("%-16s %9s %11s %12s %14s %12s %10s %8s\n", "field", "MC 256^3", "triangles", "Mtris/s", "max distance",
                 "adaptive", "ratio", "time");
+    std::printf("  (aspect ratio: longest edge over shortest altitude, 1 equilateral; worst / 99th percentile)\n");
     for (const Entry& e : entries) {
         MarchingCubesOptions o;
         o.resolution = 256;
@@ -47,10 +48,14 @@ int main() {
         IndexedMesh adaptive = marchingCubes(e.field, e.field.bounds(), o);
         simplifyMesh(adaptive, e.field, {.maxDistance = target});
         const double adaptiveSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-        const double reached = measureAccuracy(adaptive, e.field).maxCentroidDistance;
+        const MeshAccuracy mcQuality = measureAccuracy(mc, e.field), adaptiveQuality = measureAccuracy(adaptive, e.field);
         std::printf("%-16s %8.3fs %11zu %12.2f %14.2e %12zu %10.3f %7.1fs   (adaptive max distance %.2e)\n", e.name,
                     seconds, mc.triangles.size(), mc.triangles.size() / seconds / 1e6, target, adaptive.triangles.size(),
-                    double(adaptive.triangles.size()) / double(mc.triangles.size()), adaptiveSeconds, reached);
+                    double(adaptive.triangles.size()) / double(mc.triangles.size()), adaptiveSeconds,
+                    adaptiveQuality.maxCentroidDistance);
+        std::printf("%-16s aspect ratio: marching cubes %.3g / %.3g, adaptive %.3g / %.3g\n", "",
+                    mcQuality.worstAspectRatio, mcQuality.aspectRatio99thPercentile, adaptiveQuality.worstAspectRatio,
+                    adaptiveQuality.aspectRatio99thPercentile);
     }
 
     // Render time, implicit against mesh, of the comparison scene's field.

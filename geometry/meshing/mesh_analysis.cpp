@@ -89,6 +89,8 @@ MeshAccuracy measureAccuracy(const IndexedMesh& mesh, const FieldProgram& field)
         ++used;
     }
     if (used) a.meanVertexDistance /= double(used);
+    std::vector<double> aspects;
+    aspects.reserve(mesh.triangles.size());
     for (const auto& tri : mesh.triangles) {
         const Vec3 &p0 = mesh.vertices[tri[0]], &p1 = mesh.vertices[tri[1]], &p2 = mesh.vertices[tri[2]];
         const Vec3 centroid = (p0 + p1 + p2) / 3.0;
@@ -109,6 +111,12 @@ MeshAccuracy measureAccuracy(const IndexedMesh& mesh, const FieldProgram& field)
         const double aspect = area2 > 0 ? longest * longest / area2 * (std::sqrt(3.0) / 2.0)
                                         : std::numeric_limits<double>::infinity();
         a.worstAspectRatio = std::max(a.worstAspectRatio, aspect);
+        aspects.push_back(aspect);
+    }
+    if (!aspects.empty()) {
+        const auto at = aspects.begin() + std::ptrdiff_t(std::ceil(0.99 * double(aspects.size())) - 1);
+        std::nth_element(aspects.begin(), at, aspects.end());
+        a.aspectRatio99thPercentile = *at;
     }
     if (!mesh.triangles.empty()) {
         a.meanCentroidDistance /= double(mesh.triangles.size());

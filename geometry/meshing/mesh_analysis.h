@@ -32,8 +32,10 @@ struct MeshAccuracy {
     double maxCentroidDistance = 0, meanCentroidDistance = 0;
     /// Angle between each face's normal and the field's gradient at its centroid.
     double maxNormalDeviationDegrees = 0, meanNormalDeviationDegrees = 0;
-    /// Longest edge over the shortest altitude, times sqrt(3)/2 (1 for equilateral).
-    double worstAspectRatio = 0;
+    /// Longest edge over the shortest altitude, times sqrt(3)/2 (1 for
+    /// equilateral): the worst triangle's, and the value 99% of triangles
+    /// are no worse than (a few slivers against a poor mesh throughout).
+    double worstAspectRatio = 0, aspectRatio99thPercentile = 0;
 };
 
 MeshAccuracy measureAccuracy(const IndexedMesh& mesh, const FieldProgram& field);

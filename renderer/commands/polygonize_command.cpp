@@ -64,6 +64,7 @@ int runPolygonize(const PolygonizeCommand& cmd) {
             {"max_normal_deviation_degrees", a.maxNormalDeviationDegrees},
             {"mean_normal_deviation_degrees", a.meanNormalDeviationDegrees},
             {"worst_aspect_ratio", a.worstAspectRatio},
+            {"aspect_ratio_99th_percentile", a.aspectRatio99thPercentile},
             {"seconds", result.seconds},
         };
         std::printf("%s\n", report.dump(2).c_str());
