@@ -3,6 +3,7 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <queue>
 
 namespace isotrace::geometry {
@@ -54,11 +55,111 @@ public:
             collapse(c.u, c.v, position);
             ++collapses;
         }
+        collapses += removeSlivers();
         compact();
         return collapses;
     }
 
 private:
+    static double aspectRatio(const Vec3& a, const Vec3& b, const Vec3& c) {
+        const double area2 = (b - a).cross(c - a).norm();
+        const double longest = std::max({(b - a).squaredNorm(), (c - b).squaredNorm(), (a - c).squaredNorm()});
+        return area2 > 0 ? longest / area2 * (std::sqrt(3.0) / 2.0) : std::numeric_limits<double>::infinity();
+    }
+    double aspectRatio(uint32_t f) const {
+        const auto& t = mesh_.triangles[f];
+        return aspectRatio(mesh_.vertices[t[0]], mesh_.vertices[t[1]], mesh_.vertices[t[2]]);
+    }
+
+    // Slivers left once no collapse lowers the quadric error (marching cubes
+    // makes them where the surface passes near a grid corner): a needle loses
+    // its shortest edge, a cap has its longest edge flipped, each only when
+    // the tolerance, the topology and the faces' orientation still hold.
+    size_t removeSlivers() {
+        size_t changes = 0;
+        for (int round = 0; round < 4; ++round) {
+            size_t changed = 0;
+            for (uint32_t f = 0; f < mesh_.triangles.size(); ++f) {
+                if (removedFace_[f] || !(aspectRatio(f) > options_.maxAspectRatio)) continue;
+                const auto t = mesh_.triangles[f];
+                int shortest = 0, longest = 0;
+                double lengths[3];
+                for (int k = 0; k < 3; ++k) {
+                    lengths[k] = (mesh_.vertices[t[(k + 1) % 3]] - mesh_.vertices[t[k]]).squaredNorm();
+                    if (lengths[k] < lengths[shortest]) shortest = k;
+                    if (lengths[k] > lengths[longest]) longest = k;
+                }
+                const uint32_t u = t[shortest], v = t[(shortest + 1) % 3];
+                Vec3 position;
+                if (placement(u, v, position) && collapseIsValid(u, v, position)) {
+                    collapse(u, v, position);
+                    ++changed;
+                } else if (flip(t[longest], t[(longest + 1) % 3])) {
+                    ++changed;
+                }
+            }
+            changes += changed;
+            if (changed == 0) break;
+        }
+        return changes;
+    }
+
+    // Replaces the edge a-b of triangles (a, b, c) and (b, a, d) by c-d, if
+    // that makes the worse of the two triangles better and keeps the mesh
+    // manifold, oriented, unfolded and within the tolerance.
+    bool flip(uint32_t a, uint32_t b) {
+        uint32_t f1 = UINT32_MAX, f2 = UINT32_MAX, c = 0, d = 0;
+        for (uint32_t f : facesOf_[a]) {
+            const auto& t = mesh_.triangles[f];
+            for (int k = 0; k < 3; ++k) {
+                if (t[k] == a && t[(k + 1) % 3] == b) f1 = f, c = t[(k + 2) % 3];
+                if (t[k] == b && t[(k + 1) % 3] == a) f2 = f, d = t[(k + 2) % 3];
+            }
+        }
+        if (f1 == UINT32_MAX || f2 == UINT32_MAX || c == d) return false;
+        for (uint32_t f : facesOf_[c])
+            for (uint32_t w : mesh_.triangles[f])
+                if (w == d) return false;  // c-d exists already: the flip would make a non-manifold edge
+        const Vec3 &pa = mesh_.vertices[a], &pb = mesh_.vertices[b], &pc = mesh_.vertices[c], &pd = mesh_.vertices[d];
+        const double before = std::max(aspectRatio(pa, pb, pc), aspectRatio(pb, pa, pd));
+        const double after = std::max(aspectRatio(pa, pd, pc), aspectRatio(pd, pb, pc));
+        if (!(after < before)) return false;
+        const Vec3 m1 = (pd - pa).cross(pc - pa), m2 = (pb - pd).cross(pc - pd);
+        for (const Vec3& m : {m1, m2}) {
+            if (!(m.norm() > 0)) return false;
+            if (!keepsOrientation({pa, pb, pc}, m) || !keepsOrientation({pb, pa, pd}, m)) return false;
+        }
+        if (distanceToSurface((pa + pd + pc) / 3.0) > options_.maxDistance ||
+            distanceToSurface((pd + pb + pc) / 3.0) > options_.maxDistance)
+            return false;
+        mesh_.triangles[f1] = {a, d, c};
+        mesh_.triangles[f2] = {d, b, c};
+        auto drop = [&](uint32_t v, uint32_t f) {
+            auto& list = facesOf_[v];
+            list.erase(std::remove(list.begin(), list.end(), f), list.end());
+        };
+        drop(a, f2);
+        drop(b, f1);
+        facesOf_[c].push_back(f2);
+        facesOf_[d].push_back(f1);
+        ++stamp_[a], ++stamp_[b], ++stamp_[c], ++stamp_[d];
+        return true;
+    }
+
+    // A face replacing `before` with normal n does not turn over: it faces
+    // the old face's way, or, where the old face is a sliver whose normal is
+    // mostly rounding, the surface's own normal (the field's gradient).
+    bool keepsOrientation(const std::array<Vec3, 3>& before, const Vec3& n) const {
+        const Vec3 unit = n.normalized();
+        if (aspectRatio(before[0], before[1], before[2]) <= options_.maxAspectRatio) {
+            const Vec3 n0 = (before[1] - before[0]).cross(before[2] - before[0]);
+            return n0.normalized().dot(unit) >= options_.minFaceNormalCosine;
+        }
+        Vec3 g;
+        field_.valueAndGradient((before[0] + before[1] + before[2]) / 3.0, g);
+        return g.norm() > 0 && g.normalized().dot(unit) >= options_.minFaceNormalCosine;
+    }
+
     Quadric faceQuadric(uint32_t f) const {
         const auto& t = mesh_.triangles[f];
         const Vec3 n = (mesh_.vertices[t[1]] - mesh_.vertices[t[0]]).cross(mesh_.vertices[t[2]] - mesh_.vertices[t[0]]);
@@ -123,28 +224,31 @@ private:
         if (common.size() != 2) return false;
         if (nu.size() + nv.size() <= 6) return false;  // would collapse a tetrahedron
         if (distanceToSurface(p) > options_.maxDistance) return false;
+        // Refuse making a sliver, not replacing one by a lesser one: the
+        // worst face around the edge after must be fine or better than the
+        // worst before (marching cubes leaves fans of slivers at grid corners,
+        // where a test face by face refuses every collapse).
+        double worstBefore = 0.0, worstAfter = 0.0;
         for (uint32_t w : {u, v}) {
             for (uint32_t f : facesOf_[w]) {
                 const auto& t = mesh_.triangles[f];
                 const bool hasU = t[0] == u || t[1] == u || t[2] == u;
                 const bool hasV = t[0] == v || t[1] == v || t[2] == v;
+                worstBefore = std::max(worstBefore, aspectRatio(f));
                 if (hasU && hasV) continue;  // disappears
                 std::array<Vec3, 3> before, after;
                 for (int k = 0; k < 3; ++k) {
                     before[k] = mesh_.vertices[t[k]];
                     after[k] = (t[k] == u || t[k] == v) ? p : before[k];
                 }
-                const Vec3 n0 = (before[1] - before[0]).cross(before[2] - before[0]);
                 const Vec3 n1 = (after[1] - after[0]).cross(after[2] - after[0]);
-                const double a1 = n1.norm();
-                if (!(a1 > 0) || n0.norm() == 0) return false;
-                if (n0.normalized().dot(n1 / a1) < options_.minFaceNormalCosine) return false;
-                const double longest = std::max({(after[1] - after[0]).squaredNorm(), (after[2] - after[1]).squaredNorm(),
-                                                 (after[0] - after[2]).squaredNorm()});
-                if (longest / a1 * (std::sqrt(3.0) / 2.0) > options_.maxAspectRatio) return false;
+                if (!(n1.norm() > 0)) return false;
+                if (!keepsOrientation(before, n1)) return false;
+                worstAfter = std::max(worstAfter, aspectRatio(after[0], after[1], after[2]));
                 if (distanceToSurface((after[0] + after[1] + after[2]) / 3.0) > options_.maxDistance) return false;
             }
         }
+        if (worstAfter > options_.maxAspectRatio && !(worstAfter < worstBefore)) return false;
         return true;
     }
 
