@@ -178,8 +178,11 @@ private:
     }
 
     // Quadric minimum (or the best of the ends and the midpoint), projected
-    // onto the surface by Newton steps along the gradient.
-    bool placement(uint32_t u, uint32_t v, Vec3& out) const {
+    // onto the surface by Newton steps along the gradient unless only its
+    // cost is wanted (queueing: the projection is made when the edge is
+    // popped, and costs field evaluations for every edge around every
+    // collapse).
+    bool placement(uint32_t u, uint32_t v, Vec3& out, bool project = true) const {
         const Quadric q = quadric_[u] + quadric_[v];
         const Vec3 &pu = mesh_.vertices[u], &pv = mesh_.vertices[v];
         auto error = [&](const Vec3& p) { return p.homogeneous().dot(q * p.homogeneous()); };
@@ -193,7 +196,7 @@ private:
         }
         for (const Vec3& p : {pu, pv})
             if (error(p) < error(best)) best = p;
-        for (int i = 0; i < 3; ++i) {
+        for (int i = 0; project && i < 3; ++i) {
             Vec3 g;
             const double f = field_.valueAndGradient(best, g);
             const double g2 = g.squaredNorm();
@@ -205,23 +208,30 @@ private:
         return true;
     }
 
-    std::vector<uint32_t> neighbours(uint32_t v) const {
-        std::vector<uint32_t> out;
+    // The vertices sharing a face with v, sorted, into `out` (reused
+    // buffers: the simplifier asks this for every candidate collapse).
+    void neighbours(uint32_t v, std::vector<uint32_t>& out) const {
+        out.clear();
         for (uint32_t f : facesOf_[v])
             for (uint32_t w : mesh_.triangles[f])
                 if (w != v) out.push_back(w);
         std::sort(out.begin(), out.end());
         out.erase(std::unique(out.begin(), out.end()), out.end());
-        return out;
     }
 
     bool collapseIsValid(uint32_t u, uint32_t v, const Vec3& p) const {
         // Link condition: the only common neighbours are the two opposite
         // vertices of the edge's triangles.
-        const std::vector<uint32_t> nu = neighbours(u), nv = neighbours(v);
-        std::vector<uint32_t> common;
-        std::set_intersection(nu.begin(), nu.end(), nv.begin(), nv.end(), std::back_inserter(common));
-        if (common.size() != 2) return false;
+        std::vector<uint32_t>&nu = scratchU_, &nv = scratchV_;
+        neighbours(u, nu);
+        neighbours(v, nv);
+        size_t common = 0;
+        for (size_t i = 0, j = 0; i < nu.size() && j < nv.size();) {
+            if (nu[i] < nv[j]) ++i;
+            else if (nv[j] < nu[i]) ++j;
+            else ++common, ++i, ++j;
+        }
+        if (common != 2) return false;
         if (nu.size() + nv.size() <= 6) return false;  // would collapse a tetrahedron
         if (distanceToSurface(p) > options_.maxDistance) return false;
         // Refuse making a sliver, not replacing one by a lesser one: the
@@ -274,7 +284,8 @@ private:
             kept.push_back(f);
         }
         // Faces removed above may still sit in other vertices' lists.
-        for (uint32_t w : neighbours(v)) {
+        neighbours(v, scratchU_);
+        for (uint32_t w : scratchU_) {
             auto& list = facesOf_[w];
             list.erase(std::remove_if(list.begin(), list.end(), [&](uint32_t f) { return removedFace_[f]; }), list.end());
         }
@@ -283,12 +294,13 @@ private:
         // Only edges at u changed cost (its quadric and position); other
         // candidates stay queued and are re-validated when popped.
         ++stamp_[u];
-        for (uint32_t w : neighbours(u)) push(u, w);
+        neighbours(u, scratchU_);
+        for (uint32_t w : scratchU_) push(u, w);
     }
 
     void push(uint32_t a, uint32_t b) {
         Vec3 p;
-        if (!placement(a, b, p)) return;
+        if (!placement(a, b, p, false)) return;
         const Quadric q = quadric_[a] + quadric_[b];
         queue_.push({std::max(0.0, p.homogeneous().dot(q * p.homogeneous())), a, b, stamp_[a], stamp_[b]});
     }
@@ -324,6 +336,7 @@ private:
     std::vector<uint32_t> stamp_;
     std::vector<bool> removedVertex_, removedFace_;
     std::priority_queue<Candidate, std::vector<Candidate>, std::greater<Candidate>> queue_;
+    mutable std::vector<uint32_t> scratchU_, scratchV_;  ///< neighbour lists, reused
 };
 
 }  // namespace
