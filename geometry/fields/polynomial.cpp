@@ -20,6 +20,17 @@ Polynomial::Polynomial(std::vector<PolynomialTerm> terms) {
         if (c == 0.0) continue;
         terms_.push_back({c, powers});
         for (int a = 0; a < 3; ++a) maxPower_[a] = std::max(maxPower_[a], powers[a]);
+        const int variables = int(powers[0] > 0) + int(powers[1] > 0) + int(powers[2] > 0);
+        if (variables == 0) {
+            constant_ += c;
+        } else if (variables == 1) {
+            const int a = powers[0] > 0 ? 0 : powers[1] > 0 ? 1 : 2;
+            if (univariate_[a].size() <= size_t(powers[a])) univariate_[a].resize(size_t(powers[a]) + 1, 0.0);
+            univariate_[a][size_t(powers[a])] += c;
+        } else {
+            mixed_.push_back({c, powers});
+            for (int a = 0; a < 3; ++a) maxMixedPower_[a] = std::max(maxMixedPower_[a], powers[a]);
+        }
     }
 }
 
@@ -73,14 +84,22 @@ Polynomial Polynomial::power(int n) const {
 }
 
 double Polynomial::evaluate(const Vec3& p) const {
+    double sum = constant_;
+    for (int a = 0; a < 3; ++a) {
+        const std::vector<double>& c = univariate_[a];
+        if (c.size() < 2) continue;
+        double horner = c.back();
+        for (size_t k = c.size() - 1; k-- > 1;) horner = horner * p[a] + c[k];
+        sum += horner * p[a];
+    }
+    if (mixed_.empty()) return sum;
     // Powers on the stack: evaluation allocates nothing.
     std::array<std::array<double, kMaxDegree + 1>, 3> pw;
     for (int a = 0; a < 3; ++a) {
         pw[a][0] = 1.0;
-        for (int k = 1; k <= maxPower_[a]; ++k) pw[a][k] = pw[a][k - 1] * p[a];
+        for (int k = 1; k <= maxMixedPower_[a]; ++k) pw[a][k] = pw[a][k - 1] * p[a];
     }
-    double sum = 0.0;
-    for (const PolynomialTerm& t : terms_)
+    for (const PolynomialTerm& t : mixed_)
         sum += t.coefficient * pw[0][t.powers[0]] * pw[1][t.powers[1]] * pw[2][t.powers[2]];
     return sum;
 }

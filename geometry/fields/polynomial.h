@@ -42,6 +42,14 @@ public:
 private:
     std::vector<PolynomialTerm> terms_;
     std::array<int, 3> maxPower_{0, 0, 0};  ///< highest power of each variable
+    // Point evaluation, split for speed: the constant, the terms in one
+    // variable as dense coefficients by power (Horner's rule), and the
+    // terms mixing variables with the powers they need. Goursat's tangle
+    // and its kin are sums of one-variable terms only.
+    double constant_ = 0.0;
+    std::array<std::vector<double>, 3> univariate_;  ///< coefficient of x_a^k at k (k >= 1)
+    std::vector<PolynomialTerm> mixed_;
+    std::array<int, 3> maxMixedPower_{0, 0, 0};
 };
 
 struct PolynomialField {
