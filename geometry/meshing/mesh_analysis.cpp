@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <numbers>
 #include <numeric>
@@ -69,6 +70,12 @@ MeshTopology analyzeTopology(const IndexedMesh& mesh) {
     return t;
 }
 
+double triangleAspectRatio(const Vec3& a, const Vec3& b, const Vec3& c) {
+    const double area2 = (b - a).cross(c - a).norm();
+    const double longest = std::max({(b - a).squaredNorm(), (c - b).squaredNorm(), (a - c).squaredNorm()});
+    return area2 > 0 ? longest / area2 * (std::sqrt(3.0) / 2.0) : std::numeric_limits<double>::infinity();
+}
+
 MeshAccuracy measureAccuracy(const IndexedMesh& mesh, const FieldProgram& field) {
     MeshAccuracy a;
     auto distance = [&](const Vec3& p) {
@@ -106,10 +113,7 @@ MeshAccuracy measureAccuracy(const IndexedMesh& mesh, const FieldProgram& field)
             a.maxNormalDeviationDegrees = std::max(a.maxNormalDeviationDegrees, angle);
             a.meanNormalDeviationDegrees += angle;
         }
-        const double longest = std::max({(p1 - p0).norm(), (p2 - p1).norm(), (p0 - p2).norm()});
-        const double area2 = n.norm();
-        const double aspect = area2 > 0 ? longest * longest / area2 * (std::sqrt(3.0) / 2.0)
-                                        : std::numeric_limits<double>::infinity();
+        const double aspect = triangleAspectRatio(p0, p1, p2);
         a.worstAspectRatio = std::max(a.worstAspectRatio, aspect);
         aspects.push_back(aspect);
     }

@@ -40,4 +40,8 @@ struct MeshAccuracy {
 
 MeshAccuracy measureAccuracy(const IndexedMesh& mesh, const FieldProgram& field);
 
+/// A triangle's longest edge over its shortest altitude, times sqrt(3)/2
+/// (1 for equilateral, infinite for a degenerate triangle).
+double triangleAspectRatio(const Vec3& a, const Vec3& b, const Vec3& c);
+
 }  // namespace isotrace::geometry

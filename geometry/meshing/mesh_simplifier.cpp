@@ -3,8 +3,9 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <queue>
+
+#include "geometry/meshing/mesh_analysis.h"
 
 namespace isotrace::geometry {
 
@@ -61,14 +62,9 @@ public:
     }
 
 private:
-    static double aspectRatio(const Vec3& a, const Vec3& b, const Vec3& c) {
-        const double area2 = (b - a).cross(c - a).norm();
-        const double longest = std::max({(b - a).squaredNorm(), (c - b).squaredNorm(), (a - c).squaredNorm()});
-        return area2 > 0 ? longest / area2 * (std::sqrt(3.0) / 2.0) : std::numeric_limits<double>::infinity();
-    }
     double aspectRatio(uint32_t f) const {
         const auto& t = mesh_.triangles[f];
-        return aspectRatio(mesh_.vertices[t[0]], mesh_.vertices[t[1]], mesh_.vertices[t[2]]);
+        return triangleAspectRatio(mesh_.vertices[t[0]], mesh_.vertices[t[1]], mesh_.vertices[t[2]]);
     }
 
     // Slivers left once no collapse lowers the quadric error (marching cubes
@@ -121,8 +117,8 @@ private:
             for (uint32_t w : mesh_.triangles[f])
                 if (w == d) return false;  // c-d exists already: the flip would make a non-manifold edge
         const Vec3 &pa = mesh_.vertices[a], &pb = mesh_.vertices[b], &pc = mesh_.vertices[c], &pd = mesh_.vertices[d];
-        const double before = std::max(aspectRatio(pa, pb, pc), aspectRatio(pb, pa, pd));
-        const double after = std::max(aspectRatio(pa, pd, pc), aspectRatio(pd, pb, pc));
+        const double before = std::max(triangleAspectRatio(pa, pb, pc), triangleAspectRatio(pb, pa, pd));
+        const double after = std::max(triangleAspectRatio(pa, pd, pc), triangleAspectRatio(pd, pb, pc));
         if (!(after < before)) return false;
         const Vec3 m1 = (pd - pa).cross(pc - pa), m2 = (pb - pd).cross(pc - pd);
         for (const Vec3& m : {m1, m2}) {
@@ -151,7 +147,7 @@ private:
     // mostly rounding, the surface's own normal (the field's gradient).
     bool keepsOrientation(const std::array<Vec3, 3>& before, const Vec3& n) const {
         const Vec3 unit = n.normalized();
-        if (aspectRatio(before[0], before[1], before[2]) <= options_.maxAspectRatio) {
+        if (triangleAspectRatio(before[0], before[1], before[2]) <= options_.maxAspectRatio) {
             const Vec3 n0 = (before[1] - before[0]).cross(before[2] - before[0]);
             return n0.normalized().dot(unit) >= options_.minFaceNormalCosine;
         }
@@ -254,7 +250,7 @@ private:
                 const Vec3 n1 = (after[1] - after[0]).cross(after[2] - after[0]);
                 if (!(n1.norm() > 0)) return false;
                 if (!keepsOrientation(before, n1)) return false;
-                worstAfter = std::max(worstAfter, aspectRatio(after[0], after[1], after[2]));
+                worstAfter = std::max(worstAfter, triangleAspectRatio(after[0], after[1], after[2]));
                 if (distanceToSurface((after[0] + after[1] + after[2]) / 3.0) > options_.maxDistance) return false;
             }
         }
