@@ -370,6 +370,7 @@ uint32_t makeMpu(Compiler& c, JsonObjectReader& r, const LeafPlacement& p) {
     VariationalContext context;
     context.baseDirectory = std::filesystem::path(c.file()).parent_path().string();
     context.references = &c;
+    if (c.options().fitCache) context.fits = c.options().fitCache;
     context.warn = c.options().warn;
     return c.program.addLeaf(MpuLeafField{mpuFieldFromDescription(r, context)}, p);
 }

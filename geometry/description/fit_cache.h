@@ -1,5 +1,5 @@
-// Fits of variational fields kept by the content hash of what they were
-// fitted to: in memory for the cache's life and, given a folder, on disk
+// Fits of variational and MPU fields kept by the content hash of what they
+// were fitted to: in memory for the cache's life and, given a folder, on disk
 // across runs. The host chooses the folder; the library reads no
 // environment variable and keeps no process-wide state.
 #pragma once
@@ -10,6 +10,7 @@
 #include <string>
 
 #include "geometry/description/json_reader.h"
+#include "geometry/pointsets/mpu_field.h"
 #include "geometry/variational/rbf_solver.h"
 
 namespace isotrace::geometry {
@@ -28,12 +29,22 @@ public:
     void store(const std::string& hash, std::shared_ptr<const VariationalField> field, const FitReport& report,
                const Json& provenance);
 
+    /// The same for MPU fits (their hashes are of points and options).
+    std::shared_ptr<const MpuField> findMpu(const std::string& hash);
+    void storeMpu(const std::string& hash, std::shared_ptr<const MpuField> field, const MpuReport& report,
+                  const Json& provenance);
+
 private:
-    std::string pathOf(const std::string& hash) const;
+    template <class Field, class Parse>
+    std::shared_ptr<const Field> findIn(std::map<std::string, std::shared_ptr<const Field>>& memory, const char* kind,
+                                        const std::string& hash, Parse&& parse);
+    void writeEntry(const char* kind, const std::string& hash, const Json& entry) const;
+    std::string pathOf(const char* kind, const std::string& hash) const;
 
     std::string directory_;
     std::mutex mutex_;
     std::map<std::string, std::shared_ptr<const VariationalField>> memory_;
+    std::map<std::string, std::shared_ptr<const MpuField>> mpuMemory_;
 };
 
 }  // namespace isotrace::geometry

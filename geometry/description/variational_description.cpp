@@ -19,11 +19,6 @@ constexpr int kFormatVersion = 1;
 // input (solver, domain choice), so stale cache entries are not reused.
 constexpr const char* kFitRevision = "r3-qr-llt-2";
 
-std::string resolved(const std::string& name, const std::string& baseDirectory) {
-    const std::filesystem::path p(name);
-    return p.is_absolute() || baseDirectory.empty() ? name : (std::filesystem::path(baseDirectory) / p).string();
-}
-
 // An array of rows of `width` finite numbers.
 std::vector<std::vector<double>> rows(JsonObjectReader& r, const std::string& key, size_t width, const char* shape) {
     std::vector<std::vector<double>> out;
@@ -86,7 +81,7 @@ std::string constraintHash(const ConstraintSet& c, const FitOptions& options) {
 
 std::vector<OrientedPoint> pointsFromFile(JsonObjectReader& r, const char* key, const VariationalContext& context,
                                           Json& provenance, bool mesh) {
-    const std::string name = r.string(key), path = resolved(name, context.baseDirectory);
+    const std::string name = r.string(key), path = resolvedFileName(name, context.baseDirectory);
     std::vector<OrientedPoint> points;
     MeshRepair repair;
     try {
@@ -235,6 +230,11 @@ VariationalSource readVariationalSource(JsonObjectReader& r, VariationalContext&
     return source;
 }
 
+std::string resolvedFileName(const std::string& name, const std::string& baseDirectory) {
+    const std::filesystem::path p(name);
+    return p.is_absolute() || baseDirectory.empty() ? name : (std::filesystem::path(baseDirectory) / p).string();
+}
+
 Json variationalFieldToJson(const VariationalField& f, const FitReport& report, const Json& provenance,
                             const std::string& hash) {
     Json centers = Json::array(), gradientCenters = Json::array(), gradientWeights = Json::array();
@@ -318,7 +318,7 @@ std::shared_ptr<const VariationalField> fitCached(const VariationalSource& sourc
 std::shared_ptr<const VariationalField> variationalFieldFromDescription(JsonObjectReader& r,
                                                                          VariationalContext& context) {
     if (r.has("fitted")) {
-        const std::string path = resolved(r.string("fitted"), context.baseDirectory);
+        const std::string path = resolvedFileName(r.string("fitted"), context.baseDirectory);
         r.finish();  // a misspelt key fails before any file is read
         try {
             return std::make_shared<const VariationalField>(variationalFieldFromJson(parseJsonFile(path), path));

@@ -48,6 +48,10 @@ struct VariationalContext {
     std::function<void(const std::string& file, const std::string& pointer, const std::string& message)> warn;
 };
 
+/// A file name of a description: relative names are relative to the
+/// context's base directory (the scene file's).
+std::string resolvedFileName(const std::string& name, const std::string& baseDirectory);
+
 /// Oriented points from "points" (a point set file), "mesh" (a polygon
 /// model, welded), "sample" with "count" (particles on another field) and
 /// "normals" (inline rows), in that order; provenance records the files.

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 namespace isotrace::geometry {
@@ -19,6 +20,20 @@ double weightOf(double r2, double radius2) {
 
 // Largest |d/dr (1 - r^2/R^2)^3| is 6 t (1 - t^2)^2 / R at t = 1/sqrt 5.
 constexpr double kWeightSlope = 1.7173285067805897;
+
+// The largest |grad w| of a ball of radius R over distances in `distance`
+// from its centre: 6 r (1 - r^2/R^2)^2 / R^2 rises up to r = R / sqrt 5 and
+// falls after.
+double weightSlope(const Interval& distance, double R) {
+    const double peak = R / std::sqrt(5.0);
+    const double a = distance.lo, b = std::min(distance.hi, R);
+    if (a >= R) return 0.0;
+    auto slope = [&](double r) {
+        const double s = 1.0 - r * r / (R * R);
+        return 6.0 * r * s * s / (R * R);
+    };
+    return b <= peak ? slope(b) : a >= peak ? slope(a) : kWeightSlope / R;
+}
 
 void orthonormalFrame(const Vec3& n, Vec3& u, Vec3& v) {
     u = n.unitOrthogonal();
@@ -72,7 +87,7 @@ private:
 
 }  // namespace
 
-double MpuField::Local::evaluate(const Vec3& x, Vec3* gradient) const {
+double MpuQuadric::evaluate(const Vec3& x, Vec3* gradient) const {
     const Vec3 y = x - origin;
     const Vec3 Ay = A * y;
     if (gradient) *gradient = g + 2.0 * Ay;
@@ -85,9 +100,11 @@ Interval square(Interval a) {
     if (a.lo <= 0 && a.hi >= 0) return {0.0, std::max(lo2, hi2)};
     return {std::min(lo2, hi2), std::max(lo2, hi2)};
 }
+Interval maxOf(Interval a, Interval b) { return {std::max(a.lo, b.lo), std::max(a.hi, b.hi)}; }
+Interval minOf(Interval a, Interval b) { return {std::min(a.lo, b.lo), std::min(a.hi, b.hi)}; }
 }  // namespace
 
-Interval MpuField::Local::range(const Box3& box) const {
+Interval MpuQuadric::range(const Box3& box) const {
     Interval y[3];
     for (int k = 0; k < 3; ++k) y[k] = {box.lower[k] - origin[k], box.upper[k] - origin[k]};
     Interval q{c0, c0};
@@ -99,7 +116,7 @@ Interval MpuField::Local::range(const Box3& box) const {
     return widened(q);
 }
 
-double MpuField::Local::gradientBound(const Box3& box) const {
+double MpuQuadric::gradientBound(const Box3& box) const {
     Interval y[3];
     for (int k = 0; k < 3; ++k) y[k] = {box.lower[k] - origin[k], box.upper[k] - origin[k]};
     double sum = 0;
@@ -110,6 +127,238 @@ double MpuField::Local::gradientBound(const Box3& box) const {
     }
     return std::sqrt(sum) * (1 + 1e-12);
 }
+
+namespace {
+
+// max/min of pieces, with the gradient of the piece chosen (one-sided at a
+// crease, as for CSG).
+struct PieceValue {
+    double value;
+    Vec3 gradient;
+};
+PieceValue larger(const PieceValue& a, const PieceValue& b) { return a.value >= b.value ? a : b; }
+PieceValue smaller(const PieceValue& a, const PieceValue& b) { return a.value <= b.value ? a : b; }
+
+}  // namespace
+
+double MpuField::evaluate(const Local& l, const Vec3& x, Vec3* gradient) const {
+    const MpuQuadric* q = &pieces_[l.first];
+    if (l.combination == MpuCombination::Single) return q[0].evaluate(x, gradient);
+    PieceValue v[3]{};
+    for (int k = 0; k < l.count; ++k) v[k].value = q[k].evaluate(x, &v[k].gradient);
+    PieceValue r = v[0];
+    switch (l.combination) {
+    case MpuCombination::Max: r = l.count == 3 ? larger(larger(v[0], v[1]), v[2]) : larger(v[0], v[1]); break;
+    case MpuCombination::Min: r = l.count == 3 ? smaller(smaller(v[0], v[1]), v[2]) : smaller(v[0], v[1]); break;
+    case MpuCombination::MaxOfMin: r = larger(smaller(v[0], v[1]), v[2]); break;
+    case MpuCombination::MinOfMax: r = smaller(larger(v[0], v[1]), v[2]); break;
+    case MpuCombination::Single: break;
+    }
+    if (gradient) *gradient = r.gradient;
+    return r.value;
+}
+
+Interval MpuField::range(const Local& l, const Box3& box) const {
+    const MpuQuadric* q = &pieces_[l.first];
+    if (l.combination == MpuCombination::Single) return q[0].range(box);
+    Interval v[3]{};
+    for (int k = 0; k < l.count; ++k) v[k] = q[k].range(box);
+    switch (l.combination) {
+    case MpuCombination::Max: return l.count == 3 ? maxOf(maxOf(v[0], v[1]), v[2]) : maxOf(v[0], v[1]);
+    case MpuCombination::Min: return l.count == 3 ? minOf(minOf(v[0], v[1]), v[2]) : minOf(v[0], v[1]);
+    case MpuCombination::MaxOfMin: return maxOf(minOf(v[0], v[1]), v[2]);
+    case MpuCombination::MinOfMax: return minOf(maxOf(v[0], v[1]), v[2]);
+    case MpuCombination::Single: break;
+    }
+    return v[0];
+}
+
+// A max or min of pieces is Lipschitz with the largest of their constants.
+double MpuField::gradientBound(const Local& l, const Box3& box) const {
+    double bound = 0;
+    for (int k = 0; k < l.count; ++k) bound = std::max(bound, pieces_[l.first + k].gradientBound(box));
+    return bound;
+}
+
+namespace {
+
+// Normals closer than this (cosine of about 26 degrees, the paper's
+// threshold) belong to one side of a sharp feature.
+constexpr double kSameSideCos = 0.9;
+
+// The fits of one cell's ball: `near` are the points in it, weighted by
+// their distance to the cell's centre.
+class BallFit {
+public:
+    BallFit(const std::vector<MpuPoint>& points, const std::vector<uint32_t>& near, const Vec3& center, double radius)
+        : points_(points), near_(near), radius_(radius) {
+        weights_.resize(near.size());
+        for (size_t k = 0; k < near.size(); ++k)
+            weights_[k] = std::max(weightOf((points[near[k]].position - center).squaredNorm(), radius * radius), 1e-12);
+    }
+
+    /// Weighted centroid and mean unit normal of the points whose index in
+    /// `near` is listed in `members`; false when the normals cancel.
+    bool moments(const std::vector<uint32_t>& members, Vec3& centroid, Vec3& normal) const {
+        double total = 0;
+        centroid = normal = Vec3::Zero();
+        for (uint32_t k : members) {
+            total += weights_[k];
+            centroid += weights_[k] * points_[near_[k]].position;
+            normal += weights_[k] * points_[near_[k]].normal.normalized();
+        }
+        centroid /= total;
+        if (!(normal.norm() > 1e-9 * total)) return false;
+        normal.normalize();
+        return true;
+    }
+
+    /// A height function h(s, t) = a s^2 + b s t + c t^2 + d s + e t + f
+    /// over the plane through `centroid` normal to `normal`, as the quadric
+    /// n.y - h(u.y, v.y); a plane when fewer than 6 points (a single
+    /// oriented point already fixes one).
+    MpuQuadric heightFunction(const std::vector<uint32_t>& members, const Vec3& centroid, const Vec3& normal) const {
+        MpuQuadric q;
+        q.origin = centroid;
+        q.g = normal;
+        if (members.size() < 6) return q;
+        Vec3 u, v;
+        orthonormalFrame(normal, u, v);
+        const double scale = 1.0 / radius_;  // fits in conditioned coordinates
+        Eigen::Matrix<double, 6, 6> M = Eigen::Matrix<double, 6, 6>::Zero();
+        Eigen::Matrix<double, 6, 1> rhs = Eigen::Matrix<double, 6, 1>::Zero();
+        for (uint32_t k : members) {
+            const Vec3 y = (points_[near_[k]].position - centroid) * scale;
+            const double s = y.dot(u), t = y.dot(v), h = y.dot(normal), w = weights_[k];
+            Eigen::Matrix<double, 6, 1> row;
+            row << s * s, s * t, t * t, s, t, 1.0;
+            M += w * row * row.transpose();
+            rhs += w * h * row;
+        }
+        M.diagonal().array() += 1e-9 * std::max(M.trace(), 1e-300);
+        Eigen::Matrix<double, 6, 1> x = M.ldlt().solve(rhs);
+        if (!x.allFinite()) x.setZero();
+        // In world units h = radius H(s / radius, t / radius).
+        const double a = x[0] / radius_, b = x[1] / radius_, c = x[2] / radius_;
+        q.A = -(a * u * u.transpose() + 0.5 * b * (u * v.transpose() + v * u.transpose()) + c * v * v.transpose());
+        q.g = normal - x[3] * u - x[4] * v;
+        q.c0 = -x[5] * radius_;
+        return q;
+    }
+
+    /// A general quadric: zero at the points, +delta and -delta at
+    /// auxiliary points delta along and against their normals.
+    MpuQuadric generalQuadric(const Vec3& centroid) const {
+        const double scale = 1.0 / radius_;
+        Eigen::Matrix<double, 10, 10> M = Eigen::Matrix<double, 10, 10>::Zero();
+        Eigen::Matrix<double, 10, 1> rhs = Eigen::Matrix<double, 10, 1>::Zero();
+        const double delta = 0.1;  // in conditioned units: a tenth of the ball's radius
+        for (size_t k = 0; k < near_.size(); ++k) {
+            const Vec3 q = (points_[near_[k]].position - centroid) * scale, n = points_[near_[k]].normal.normalized();
+            for (int side = -1; side <= 1; ++side) {
+                const Vec3 y = q + side * delta * n;
+                Eigen::Matrix<double, 10, 1> row;
+                row << y.x() * y.x(), y.y() * y.y(), y.z() * y.z(), 2 * y.x() * y.y(), 2 * y.x() * y.z(), 2 * y.y() * y.z(),
+                    y.x(), y.y(), y.z(), 1.0;
+                M += weights_[k] * row * row.transpose();
+                rhs += weights_[k] * (side * delta) * row;
+            }
+        }
+        M.diagonal().array() += 1e-9 * std::max(M.trace(), 1e-300);
+        Eigen::Matrix<double, 10, 1> x = M.ldlt().solve(rhs);
+        if (!x.allFinite()) x.setZero();
+        // Back to world units: Q(y) = radius Qc(y / radius).
+        MpuQuadric q;
+        q.origin = centroid;
+        q.A << x[0], x[3], x[4], x[3], x[1], x[5], x[4], x[5], x[2];
+        q.A /= radius_;
+        q.g = Vec3(x[6], x[7], x[8]);
+        q.c0 = x[9] * radius_;
+        return q;
+    }
+
+    /// The ball's normals in two or three clusters (sides of an edge or a
+    /// corner), by farthest seeds and a few rounds of k-means on the
+    /// sphere; fewer than two clusters when the normals all agree.
+    std::vector<std::vector<uint32_t>> normalClusters(const Vec3& meanNormal) const {
+        auto normalAt = [&](size_t k) { return points_[near_[k]].normal.normalized(); };
+        auto farthestFrom = [&](auto&& closeness) {
+            size_t best = 0;
+            double lowest = 2;
+            for (size_t k = 0; k < near_.size(); ++k)
+                if (const double c = closeness(normalAt(k)); c < lowest) lowest = c, best = k;
+            return std::pair{best, lowest};
+        };
+        std::vector<Vec3> seeds;
+        const Vec3 a = normalAt(farthestFrom([&](const Vec3& n) { return n.dot(meanNormal); }).first);
+        const auto [bIndex, ab] = farthestFrom([&](const Vec3& n) { return n.dot(a); });
+        if (ab > kSameSideCos) return {};
+        const Vec3 b = normalAt(bIndex);
+        seeds = {a, b};
+        const auto [cIndex, cFar] = farthestFrom([&](const Vec3& n) { return std::max(n.dot(a), n.dot(b)); });
+        if (cFar < kSameSideCos) seeds.push_back(normalAt(cIndex));
+        std::vector<std::vector<uint32_t>> clusters;
+        for (int round = 0; round < 5; ++round) {
+            clusters.assign(seeds.size(), {});
+            for (size_t k = 0; k < near_.size(); ++k) {
+                const Vec3 n = normalAt(k);
+                size_t best = 0;
+                for (size_t s = 1; s < seeds.size(); ++s)
+                    if (n.dot(seeds[s]) > n.dot(seeds[best])) best = s;
+                clusters[best].push_back(uint32_t(k));
+            }
+            for (size_t s = 0; s < seeds.size(); ++s) {
+                Vec3 sum = Vec3::Zero();
+                for (uint32_t k : clusters[s]) sum += weights_[k] * normalAt(k);
+                if (sum.norm() > 0) seeds[s] = sum.normalized();
+            }
+        }
+        // A feature is a jump of the normals. Two clusters with more than a
+        // few normals within the threshold of each other's mean only cut a
+        // spread where the normals turn gradually (a curved side, or a
+        // sphere's cap seen whole): they are one side. A ball left with one
+        // side is smooth and goes to smooth functions at a finer level.
+        const size_t fewBetween = std::max<size_t>(1, near_.size() / 50);
+        auto continuous = [&](size_t s, size_t o) {
+            size_t between = 0;
+            for (uint32_t k : clusters[s]) between += normalAt(k).dot(seeds[o]) > kSameSideCos;
+            for (uint32_t k : clusters[o]) between += normalAt(k).dot(seeds[s]) > kSameSideCos;
+            return between > fewBetween;
+        };
+        for (size_t s = 0; s < clusters.size(); ++s)
+            for (size_t o = s + 1; o < clusters.size(); ++o)
+                if (!clusters[s].empty() && !clusters[o].empty() && continuous(s, o)) {
+                    clusters[s].insert(clusters[s].end(), clusters[o].begin(), clusters[o].end());
+                    clusters[o].clear();
+                }
+        std::erase_if(clusters, [](const std::vector<uint32_t>& c) { return c.empty(); });
+        if (clusters.size() < 2) return {};
+        return clusters;
+    }
+
+    /// Largest first-order distance of the ball's points to the zero set
+    /// of `value` (a function returning the value and filling the gradient).
+    template <class Function>
+    double error(Function&& value) const {
+        double worst = 0;
+        for (uint32_t i : near_) {
+            Vec3 g;
+            const double q = value(points_[i].position, g);
+            worst = std::max(worst, std::abs(q) / std::max(g.norm(), 1e-300));
+        }
+        return worst;
+    }
+
+    size_t size() const { return near_.size(); }
+
+private:
+    const std::vector<MpuPoint>& points_;
+    const std::vector<uint32_t>& near_;
+    double radius_;
+    std::vector<double> weights_;
+};
+
+}  // namespace
 
 MpuField MpuField::fit(const std::vector<MpuPoint>& points, const MpuOptions& options, MpuReport* report) {
     const auto start = std::chrono::steady_clock::now();
@@ -130,6 +379,8 @@ MpuField MpuField::fit(const std::vector<MpuPoint>& points, const MpuOptions& op
     const double tolerance = options.accuracy * diagonal;
 
     MpuField field;
+    field.support_ = options.support;
+    field.backgroundMargin_ = 1e-3 * diagonal;
     // The root cube: the points' box, centred, 30% wider, so the surface stays inside.
     const double half = 0.65 * box.extent().maxCoeff();
     field.domain_ = Box3::around(box.center(), half);
@@ -158,133 +409,86 @@ MpuField MpuField::fit(const std::vector<MpuPoint>& points, const MpuOptions& op
         // A cell whose ball had to grow lies away from the data: smaller
         // cells there would see the same points again. It keeps its fit.
         const bool deepest = cell.depth >= options.maxDepth || radius > baseRadius;
-        auto subdivide = [&] {
+        const BallFit ball(points, near, cell.center, radius);
+        std::vector<uint32_t> all(near.size());
+        for (size_t k = 0; k < all.size(); ++k) all[k] = uint32_t(k);
+        Vec3 centroid, normal;
+        const bool normalsAgree = ball.moments(all, centroid, normal);
+        double agreement = normalsAgree ? 1.0 : -1.0;
+        for (uint32_t i : near) agreement = std::min(agreement, points[i].normal.normalized().dot(normal));
+        const bool general = agreement < 0.2;
+        const MpuQuadric smooth = general ? ball.generalQuadric(centroid) : ball.heightFunction(all, centroid, normal);
+        double error = ball.error([&](const Vec3& p, Vec3& g) { return smooth.evaluate(p, &g); });
+
+        Local local;
+        local.center = cell.center;
+        local.radius = radius;
+        local.first = uint32_t(field.pieces_.size());
+        std::vector<MpuQuadric> chosen{smooth};
+        // Where a smooth function misses, an edge or corner may be the cause:
+        // one height function per cluster of normals, joined by max where
+        // the edge is convex (each side's centroid inside the other's
+        // function) and by min where it is concave.
+        if (error > tolerance && options.sharpFeatures) {
+            const std::vector<std::vector<uint32_t>> clusters = ball.normalClusters(normal);
+            if (clusters.size() >= 2) {
+                std::vector<MpuQuadric> sides;
+                std::vector<Vec3> centroids;
+                for (const std::vector<uint32_t>& c : clusters) {
+                    Vec3 cc, cn;
+                    if (!ball.moments(c, cc, cn)) break;
+                    sides.push_back(ball.heightFunction(c, cc, cn));
+                    centroids.push_back(cc);
+                }
+                if (sides.size() == clusters.size()) {
+                    auto convex = [&](size_t i, size_t j) {
+                        return sides[i].evaluate(centroids[j], nullptr) + sides[j].evaluate(centroids[i], nullptr) < 0;
+                    };
+                    MpuLocal candidate = local;
+                    candidate.count = uint8_t(sides.size());
+                    if (sides.size() == 2) {
+                        candidate.combination = convex(0, 1) ? MpuCombination::Max : MpuCombination::Min;
+                    } else {
+                        const bool c01 = convex(0, 1), c02 = convex(0, 2), c12 = convex(1, 2);
+                        const int convexPairs = int(c01) + int(c02) + int(c12);
+                        if (convexPairs == 3) candidate.combination = MpuCombination::Max;
+                        else if (convexPairs == 0) candidate.combination = MpuCombination::Min;
+                        else {
+                            // The odd pair goes first: (0, 1) in max(min(p0, p1), p2) or min(max(p0, p1), p2).
+                            const bool oddIsConcave = convexPairs == 2;
+                            const size_t other = (c12 != oddIsConcave) ? 0 : (c02 != oddIsConcave) ? 1 : 2;
+                            std::swap(sides[other], sides[2]);
+                            candidate.combination = oddIsConcave ? MpuCombination::MaxOfMin : MpuCombination::MinOfMax;
+                        }
+                    }
+                    // Evaluate the candidate in place: its pieces go last for a moment.
+                    const size_t mark = field.pieces_.size();
+                    field.pieces_.insert(field.pieces_.end(), sides.begin(), sides.end());
+                    const double sharpError =
+                        ball.error([&](const Vec3& p, Vec3& g) { return field.evaluate(candidate, p, &g); });
+                    field.pieces_.resize(mark);
+                    if (sharpError < error) {
+                        error = sharpError;
+                        chosen = sides;
+                        local = candidate;
+                    }
+                }
+            }
+        }
+        if (error > tolerance && !deepest) {
             for (int k = 0; k < 8; ++k) {
                 const Vec3 offset((k & 1) ? 0.5 : -0.5, (k & 2) ? 0.5 : -0.5, (k & 4) ? 0.5 : -0.5);
                 stack.push_back({cell.center + cell.half * offset, 0.5 * cell.half, cell.depth + 1});
             }
-        };
-        // Weighted centroid and mean normal of the ball.
-        Local local;
-        local.center = cell.center;
-        local.radius = radius;
-        const double radius2 = radius * radius;
-        auto weightAt = [&](uint32_t i) {
-            return std::max(weightOf((points[i].position - cell.center).squaredNorm(), radius2), 1e-12);
-        };
-        double total = 0;
-        Vec3 centroid = Vec3::Zero(), normal = Vec3::Zero();
-        for (uint32_t i : near) {
-            const double w = weightAt(i);
-            total += w;
-            centroid += w * points[i].position;
-            normal += w * points[i].normal.normalized();
-        }
-        centroid /= total;
-        local.origin = centroid;
-        const bool normalsCancel = !(normal.norm() > 1e-9 * total);
-        if (!normalsCancel) normal.normalize();
-        double agreement = normalsCancel ? -1.0 : 1.0;
-        for (uint32_t i : near) agreement = std::min(agreement, points[i].normal.normalized().dot(normal));
-        const double scale = 1.0 / radius;  // fits in conditioned coordinates
-        if (agreement >= 0.2) {
-            // A height function over the mean plane: h(s, t) = a s^2 + b s t + c t^2 + d s + e t + f.
-            Vec3 u, v;
-            orthonormalFrame(normal, u, v);
-            Eigen::Matrix<double, 6, 6> M = Eigen::Matrix<double, 6, 6>::Zero();
-            Eigen::Matrix<double, 6, 1> rhs = Eigen::Matrix<double, 6, 1>::Zero();
-            for (uint32_t i : near) {
-                const Vec3 q = (points[i].position - centroid) * scale;
-                const double s = q.dot(u), t = q.dot(v), h = q.dot(normal), w = weightAt(i);
-                Eigen::Matrix<double, 6, 1> row;
-                row << s * s, s * t, t * t, s, t, 1.0;
-                M += w * row * row.transpose();
-                rhs += w * h * row;
-            }
-            M.diagonal().array() += 1e-9 * std::max(M.trace(), 1e-300);
-            Eigen::Matrix<double, 6, 1> x = M.ldlt().solve(rhs);
-            if (!x.allFinite()) x.setZero();
-            // Q(y) = n.y - h(u.y, v.y) in world units: h = radius H(s/radius, t/radius).
-            const double a = x[0] / radius, b = x[1] / radius, c = x[2] / radius;
-            local.A = -(a * u * u.transpose() + 0.5 * b * (u * v.transpose() + v * u.transpose()) + c * v * v.transpose());
-            local.g = normal - x[3] * u - x[4] * v;
-            local.c0 = -x[5] * radius;
-        } else {
-            // A general quadric: zero at the points, +delta and -delta at
-            // auxiliary points delta along and against their normals.
-            ++r.generalQuadrics;
-            Eigen::Matrix<double, 10, 10> M = Eigen::Matrix<double, 10, 10>::Zero();
-            Eigen::Matrix<double, 10, 1> rhs = Eigen::Matrix<double, 10, 1>::Zero();
-            const double delta = 0.1;  // in conditioned units: a tenth of the ball's radius
-            for (uint32_t i : near) {
-                const Vec3 q = (points[i].position - centroid) * scale, n = points[i].normal.normalized();
-                const double w = weightAt(i);
-                for (int side = -1; side <= 1; ++side) {
-                    const Vec3 y = q + side * delta * n;
-                    Eigen::Matrix<double, 10, 1> row;
-                    row << y.x() * y.x(), y.y() * y.y(), y.z() * y.z(), 2 * y.x() * y.y(), 2 * y.x() * y.z(),
-                        2 * y.y() * y.z(), y.x(), y.y(), y.z(), 1.0;
-                    M += w * row * row.transpose();
-                    rhs += w * (side * delta) * row;
-                }
-            }
-            M.diagonal().array() += 1e-9 * std::max(M.trace(), 1e-300);
-            Eigen::Matrix<double, 10, 1> x = M.ldlt().solve(rhs);
-            if (!x.allFinite()) x.setZero();
-            // Back to world units: Q(y) = radius Qc(y / radius).
-            Mat3 A;
-            A << x[0], x[3], x[4], x[3], x[1], x[5], x[4], x[5], x[2];
-            local.A = A / radius;
-            local.g = Vec3(x[6], x[7], x[8]);
-            local.c0 = x[9] * radius;
-        }
-        double error = 0;
-        for (uint32_t i : near) {
-            Vec3 g;
-            const double q = local.evaluate(points[i].position, &g);
-            error = std::max(error, std::abs(q) / std::max(g.norm(), 1e-300));
-        }
-        if (error > tolerance && !deepest) {
-            subdivide();
             continue;
         }
+        if (local.count == 1 && general) ++r.generalQuadrics;
+        if (local.count == 2) ++r.edges;
+        if (local.count == 3) ++r.corners;
+        field.pieces_.insert(field.pieces_.end(), chosen.begin(), chosen.end());
         field.locals_.push_back(local);
     }
-
-    // Which locals reach each cell of a grid over the domain.
-    field.grid_ = std::clamp(int(std::cbrt(double(field.locals_.size()))) * 2, 4, 64);
-    field.cellSize_ = field.domain_.extent() / field.grid_;
-    const size_t cells = size_t(field.grid_) * field.grid_ * field.grid_;
-    std::vector<std::vector<uint32_t>> lists(cells);
-    for (uint32_t i = 0; i < field.locals_.size(); ++i) {
-        const Local& l = field.locals_[i];
-        int lo[3], hi[3];
-        for (int k = 0; k < 3; ++k) {
-            lo[k] = std::clamp(int(std::floor((l.center[k] - l.radius - field.domain_.lower[k]) / field.cellSize_[k])), 0, field.grid_ - 1);
-            hi[k] = std::clamp(int(std::floor((l.center[k] + l.radius - field.domain_.lower[k]) / field.cellSize_[k])), 0, field.grid_ - 1);
-        }
-        for (int x = lo[0]; x <= hi[0]; ++x)
-            for (int y = lo[1]; y <= hi[1]; ++y)
-                for (int z = lo[2]; z <= hi[2]; ++z) {
-                    const Box3 c(field.domain_.lower + field.cellSize_.cwiseProduct(Vec3(x, y, z)),
-                                 field.domain_.lower + field.cellSize_.cwiseProduct(Vec3(x + 1, y + 1, z + 1)));
-                    if (c.distanceRange(l.center).lo < l.radius) lists[(size_t(x) * field.grid_ + y) * field.grid_ + z].push_back(i);
-                }
-    }
-    field.cellStart_.assign(cells + 1, 0);
-    size_t sum = 0;
-    for (size_t c = 0; c < cells; ++c) {
-        field.cellStart_[c + 1] = field.cellStart_[c] + uint32_t(lists[c].size());
-        field.cellItems_.insert(field.cellItems_.end(), lists[c].begin(), lists[c].end());
-        sum += lists[c].size();
-    }
-    field.typicalTerms_ = std::max<size_t>(1, sum / cells);
-    // Every point of the domain lies in a leaf cell, at most half its
-    // diagonal from the centre, and that cell's ball has a radius of at
-    // least `support` diagonals: its weight there is at least this.
-    const double t = 1.0 / (2.0 * options.support);
-    field.minimumWeight_ = std::pow(1.0 - t * t, 3);
-    field.backgroundMargin_ = 1e-3 * diagonal;
+    field.finish();
 
     // The fit's error: the blended field's first-order distance at the input.
     for (const MpuPoint& p : points) {
@@ -298,14 +502,100 @@ MpuField MpuField::fit(const std::vector<MpuPoint>& points, const MpuOptions& op
     return field;
 }
 
+MpuField MpuField::fromParts(const Box3& domain, double support, double backgroundMargin, std::vector<MpuLocal> locals,
+                             std::vector<MpuQuadric> pieces) {
+    if (domain.isEmpty() || !domain.isFinite()) throw std::invalid_argument("the domain is empty or not finite");
+    if (!(support > 0.5 && support <= 4)) throw std::invalid_argument("the support must lie in (0.5, 4]");
+    if (!(backgroundMargin >= 0) || !std::isfinite(backgroundMargin))
+        throw std::invalid_argument("the background margin must be finite and not negative");
+    if (locals.empty()) throw std::invalid_argument("no local functions");
+    for (size_t i = 0; i < locals.size(); ++i) {
+        const MpuLocal& l = locals[i];
+        const std::string which = "local function " + std::to_string(i);
+        if (!l.center.allFinite() || !(l.radius > 0) || !std::isfinite(l.radius))
+            throw std::invalid_argument(which + ": its ball is not finite");
+        const bool countFits = l.combination == MpuCombination::Single ? l.count == 1
+                               : (l.combination == MpuCombination::Max || l.combination == MpuCombination::Min)
+                                   ? (l.count == 2 || l.count == 3)
+                                   : l.count == 3;
+        if (!countFits) throw std::invalid_argument(which + ": its combination does not fit its number of pieces");
+        if (size_t(l.first) + l.count > pieces.size()) throw std::invalid_argument(which + ": its pieces are out of range");
+    }
+    for (size_t i = 0; i < pieces.size(); ++i) {
+        const MpuQuadric& q = pieces[i];
+        if (!q.origin.allFinite() || !q.A.allFinite() || !q.g.allFinite() || !std::isfinite(q.c0))
+            throw std::invalid_argument("piece " + std::to_string(i) + " is not finite");
+    }
+    MpuField field;
+    field.domain_ = domain;
+    field.support_ = support;
+    field.backgroundMargin_ = backgroundMargin;
+    field.locals_ = std::move(locals);
+    field.pieces_ = std::move(pieces);
+    field.finish();
+    return field;
+}
+
+int MpuField::gridIndex(double coordinate, int axis) const {
+    // Clamped as a double first: far points (or NaN) must not overflow an int.
+    const double cell = std::floor((coordinate - domain_.lower[axis]) / cellSize_[axis]);
+    return cell >= 0 ? int(std::min(cell, double(grid_ - 1))) : 0;
+}
+
+void MpuField::finish() {
+    // Which locals reach each cell of a grid over the domain: exactly (for
+    // evaluation and box queries) and within a margin of it (for the small
+    // boxes of safe distances, answered from one cell's list).
+    grid_ = std::clamp(int(std::cbrt(double(locals_.size()))) * 2, 4, 64);
+    cellSize_ = domain_.extent() / grid_;
+    nearMargin_ = 0.5 * cellSize_.minCoeff();
+    const size_t cells = size_t(grid_) * grid_ * grid_;
+    auto index = [&](double margin, std::vector<uint32_t>& start, std::vector<uint32_t>& items) {
+        std::vector<std::vector<uint32_t>> lists(cells);
+        for (uint32_t i = 0; i < locals_.size(); ++i) {
+            const Local& l = locals_[i];
+            int lo[3], hi[3];
+            for (int k = 0; k < 3; ++k) {
+                lo[k] = gridIndex(l.center[k] - l.radius - margin, k);
+                hi[k] = gridIndex(l.center[k] + l.radius + margin, k);
+            }
+            for (int x = lo[0]; x <= hi[0]; ++x)
+                for (int y = lo[1]; y <= hi[1]; ++y)
+                    for (int z = lo[2]; z <= hi[2]; ++z) {
+                        const Box3 c(domain_.lower + cellSize_.cwiseProduct(Vec3(x, y, z)),
+                                     domain_.lower + cellSize_.cwiseProduct(Vec3(x + 1, y + 1, z + 1)));
+                        if (c.expanded(margin).distanceRange(l.center).lo < l.radius)
+                            lists[(size_t(x) * grid_ + y) * grid_ + z].push_back(i);
+                    }
+        }
+        start.assign(cells + 1, 0);
+        items.clear();
+        for (size_t c = 0; c < cells; ++c) {
+            start[c + 1] = start[c] + uint32_t(lists[c].size());
+            items.insert(items.end(), lists[c].begin(), lists[c].end());
+        }
+    };
+    index(0.0, cellStart_, cellItems_);
+    index(nearMargin_, nearStart_, nearItems_);
+    // Each piece's |A| (Frobenius, at least the spectral norm, slightly
+    // raised for rounding): its gradient g + 2 A y moves at most 2 |A| |dy|.
+    pieceCurvatures_.resize(pieces_.size());
+    for (size_t i = 0; i < pieces_.size(); ++i) pieceCurvatures_[i] = pieces_[i].A.norm() * (1 + 1e-12) + 1e-300;
+    typicalTerms_ = std::max<size_t>(1, cellItems_.size() / cells);
+    // Every point of the domain lies in a leaf cell, at most half its
+    // diagonal from the centre, and that cell's ball has a radius of at
+    // least `support` diagonals: its weight there is at least this.
+    const double t = 1.0 / (2.0 * support_);
+    minimumWeight_ = std::pow(1.0 - t * t, 3);
+}
+
+// Points and boxes beyond the domain look up the grid cells they clamp to:
+// clamping onto the domain (convex, holding every ball's centre) brings no
+// point farther from a centre, so every ball reaching them reaches there too.
 template <class Visit>
 void MpuField::forLocalsAt(const Vec3& p, Visit&& visit) const {
-    if (!domain_.contains(p)) {  // the grid covers the domain only: ask every local
-        for (const Local& l : locals_) visit(l);
-        return;
-    }
     int c[3];
-    for (int k = 0; k < 3; ++k) c[k] = std::clamp(int(std::floor((p[k] - domain_.lower[k]) / cellSize_[k])), 0, grid_ - 1);
+    for (int k = 0; k < 3; ++k) c[k] = gridIndex(p[k], k);
     const size_t cell = (size_t(c[0]) * grid_ + c[1]) * grid_ + c[2];
     for (uint32_t k = cellStart_[cell]; k < cellStart_[cell + 1]; ++k) visit(locals_[cellItems_[k]]);
 }
@@ -314,18 +604,11 @@ template <class Visit>
 void MpuField::forLocalsTouching(const Box3& box, Visit&& visit) const {
     int lo[3], hi[3];
     for (int k = 0; k < 3; ++k) {
-        lo[k] = std::clamp(int(std::floor((box.lower[k] - domain_.lower[k]) / cellSize_[k])), 0, grid_ - 1);
-        hi[k] = std::clamp(int(std::floor((box.upper[k] - domain_.lower[k]) / cellSize_[k])), 0, grid_ - 1);
+        lo[k] = gridIndex(box.lower[k], k);
+        hi[k] = gridIndex(box.upper[k], k);
     }
     // A local is listed in every grid cell its ball reaches: visit it once
     // (a per-thread stamp per local, no allocation after the first call).
-    if (!(box.lower.array() >= domain_.lower.array()).all() || !(box.upper.array() <= domain_.upper.array()).all()) {
-        for (const Local& l : locals_) {  // beyond the grid: ask every local
-            const Interval distance = box.distanceRange(l.center);
-            if (distance.lo < l.radius) visit(l, distance);
-        }
-        return;
-    }
     thread_local std::vector<uint32_t> stamps;
     thread_local uint32_t stamp = 0;
     if (stamps.size() < locals_.size()) stamps.assign(locals_.size(), 0), stamp = 0;
@@ -372,7 +655,7 @@ double MpuField::valueAndGradient(const Vec3& p, Vec3& gradient) const {
         const double s = 1.0 - r2 / R2, w = s * s * s;
         const Vec3 dw = (-6.0 * s * s / R2) * r;
         Vec3 gq;
-        const double q = l.evaluate(p, &gq);
+        const double q = evaluate(l, p, &gq);
         W += w;
         F += w * q;
         dW += dw;
@@ -380,6 +663,94 @@ double MpuField::valueAndGradient(const Vec3& p, Vec3& gradient) const {
     });
     gradient = (dF * W - F * dW) / (W * W);
     return F / W;
+}
+
+double MpuField::valueAndSafeDistance(const Vec3& p, double& safeDistance) const {
+    // f = N / W with W > 0: f and the weighted sum N = sum w_i Q_i (plus the
+    // background's term) have the same zeros, and N's slope is bounded term
+    // by term, each local by its own |Q_i| and |grad Q_i|:
+    //   |grad N| <= sum_i (|grad w_i| |Q_i| + w_i |grad Q_i|) + background.
+    // Unlike f's bound, no local's poor fit far from its points (a ball
+    // grown over sparse data) inflates the bound of every other one.
+    //
+    // Over the ball of radius h around p (h = |f| at most: near the surface
+    // f is about a distance), each piece's gradient moves at most 2 |A| h
+    // from its value at p, and its value at most that slope times h; w_i
+    // and |grad w_i| come from the range of distances [d_i - h, d_i + h].
+    // The bound proves the ball of radius |N| / L, and no more than h.
+    //
+    // Which balls can reach within h of p: when the h-ball lies inside p's
+    // grid cell, those of the cell's own list (the common case near the
+    // surface, where steps are short); otherwise those of its near list,
+    // with h at most the near margin.
+    struct Seen {
+        double value, distance, radius, gradient, curvature;
+    };
+    thread_local std::vector<Seen> seen;  // grows once per thread, then reused
+    int c[3];
+    double toFace = std::numeric_limits<double>::infinity();
+    for (int k = 0; k < 3; ++k) {
+        c[k] = gridIndex(p[k], k);
+        const double lower = domain_.lower[k] + c[k] * cellSize_[k];
+        toFace = std::min({toFace, p[k] - lower, lower + cellSize_[k] - p[k]});
+    }
+    toFace = std::max(toFace, 0.0);  // beyond the domain: no room in the cell
+    const size_t cell = (size_t(c[0]) * grid_ + c[1]) * grid_ + c[2];
+    double W = 0.0, N = 0.0;
+    auto gather = [&](const std::vector<uint32_t>& start, const std::vector<uint32_t>& items, double reach) {
+        seen.clear();
+        W = kBackgroundWeight;
+        N = kBackgroundWeight * background(p, nullptr);
+        for (uint32_t k = start[cell]; k < start[cell + 1]; ++k) {
+            const Local& l = locals_[items[k]];
+            const double r2 = (p - l.center).squaredNorm(), R = l.radius, R2 = R * R;
+            if (r2 >= (R + reach) * (R + reach)) continue;
+            // Each piece's value and gradient at p; a max or min of pieces
+            // takes one of their values (and gradients).
+            const MpuQuadric* q = &pieces_[l.first];
+            double v[3], gradient = 0.0, curvature = 0.0;
+            for (int i = 0; i < l.count; ++i) {
+                Vec3 g;
+                v[i] = q[i].evaluate(p, &g);
+                gradient = std::max(gradient, g.norm());
+                curvature = std::max(curvature, pieceCurvatures_[l.first + i]);
+            }
+            double value = v[0];
+            switch (l.combination) {
+            case MpuCombination::Single: break;
+            case MpuCombination::Max: value = l.count == 3 ? std::max({v[0], v[1], v[2]}) : std::max(v[0], v[1]); break;
+            case MpuCombination::Min: value = l.count == 3 ? std::min({v[0], v[1], v[2]}) : std::min(v[0], v[1]); break;
+            case MpuCombination::MaxOfMin: value = std::max(std::min(v[0], v[1]), v[2]); break;
+            case MpuCombination::MinOfMax: value = std::min(std::max(v[0], v[1]), v[2]); break;
+            }
+            seen.push_back({value, std::sqrt(r2), R, gradient, curvature});
+            if (r2 >= R2) continue;
+            const double s = 1.0 - r2 / R2, w = s * s * s;
+            W += w;
+            N += w * value;
+        }
+    };
+    gather(cellStart_, cellItems_, toFace);
+    const double v = N / W;
+    safeDistance = 0.0;
+    if (!(std::abs(N) > 0)) return v;
+    double h = std::abs(v);
+    if (h > toFace) {
+        // The h-ball leaves the cell: the near list holds every ball within
+        // the margin of it (N and W come out the same, summed again).
+        h = std::min(h, nearMargin_);
+        gather(nearStart_, nearItems_, h);
+    }
+    double slope = kBackgroundWeight;  // |grad b| <= 1
+    for (const Seen& l : seen) {
+        const Interval distance{std::max(0.0, l.distance - h), l.distance + h};
+        if (distance.lo >= l.radius) continue;
+        const double gradient = l.gradient + 2.0 * l.curvature * h;
+        slope += weightSlope(distance, l.radius) * (std::abs(l.value) + gradient * h) +
+                 weightOf(distance.lo * distance.lo, l.radius * l.radius) * gradient;
+    }
+    safeDistance = std::min(h, std::abs(N) / (slope * (1 + 1e-9)));
+    return v;
 }
 
 Interval MpuField::range(const Box3& box) const {
@@ -390,10 +761,24 @@ Interval MpuField::range(const Box3& box) const {
     Interval hull{backgroundMargin_, backgroundMargin_ + farthest + 1e-12};
     // The background's smallest value over the box is its margin plus the
     // box's distance to the domain, at least the margin: the hull above is sound.
-    forLocalsTouching(box, [&](const Local& l, const Interval&) {
-        const Interval q = l.range(box);
+    // f = N / W has the sign of N = sum w_i Q_i: where N's range keeps one
+    // sign, so does f, and |f| >= |N| / W.hi. A local fitted poorly far
+    // from its points widens the hull but weighs little where it does.
+    Interval weighted = kBackgroundWeight * hull, weights{kBackgroundWeight, kBackgroundWeight};
+    double magnitude = std::abs(weighted.lo) + std::abs(weighted.hi);
+    forLocalsTouching(box, [&](const Local& l, const Interval& distance) {
+        const Interval q = range(l, box);
         hull = {std::min(hull.lo, q.lo), std::max(hull.hi, q.hi)};
+        const double R2 = l.radius * l.radius;
+        const Interval w{weightOf(distance.hi * distance.hi, R2), weightOf(distance.lo * distance.lo, R2)};
+        const Interval term = w * q;
+        weighted += term;
+        weights += w;
+        magnitude += std::abs(term.lo) + std::abs(term.hi);
     });
+    const double slack = 1e-12 * magnitude;  // rounding of the sums
+    if (weighted.lo - slack > 0) hull.lo = std::max(hull.lo, (weighted.lo - slack) / (weights.hi * (1 + 1e-12)));
+    if (weighted.hi + slack < 0) hull.hi = std::min(hull.hi, (weighted.hi + slack) / (weights.hi * (1 + 1e-12)));
     return hull;
 }
 
@@ -406,18 +791,11 @@ double MpuField::lipschitz(const Box3& box) const {
     double gradientQ = 1.0;  // the background's slope
     double slopes = 0.0, weightBelow = kBackgroundWeight;
     forLocalsTouching(box, [&](const Local& l, const Interval& distance) {
-        const Interval q = l.range(box);
+        const Interval q = range(l, box);
         hull = {std::min(hull.lo, q.lo), std::max(hull.hi, q.hi)};
-        gradientQ = std::max(gradientQ, l.gradientBound(box));
-        // |grad w| = 6 r (1 - r^2/R^2)^2 / R^2 rises up to r = R / sqrt 5
-        // and falls after: its largest value over the box's distances.
-        const double R = l.radius, peak = R / std::sqrt(5.0);
-        const double a = distance.lo, b = std::min(distance.hi, R);
-        auto slope = [&](double r) {
-            const double s = 1.0 - r * r / (R * R);
-            return 6.0 * r * s * s / (R * R);
-        };
-        slopes += b <= peak ? slope(b) : a >= peak ? slope(a) : kWeightSlope / R;
+        gradientQ = std::max(gradientQ, gradientBound(l, box));
+        const double R = l.radius;
+        slopes += weightSlope(distance, R);
         // Its weight is at least its value at the farthest point of the box.
         if (distance.hi < R) weightBelow += weightOf(distance.hi * distance.hi, R * R);
     });

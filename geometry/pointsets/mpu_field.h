@@ -6,12 +6,14 @@
 //
 //   f(x) = sum_i w_i(x) Q_i(x) / sum_i w_i(x),  w_i(x) = (1 - |x - c_i|^2 / R_i^2)^3.
 //
-// Local functions are the paper's two smooth kinds: a quadratic height
-// function over the points' mean plane where the normals agree, and a
-// general quadric (fitted to the points and to auxiliary points along their
-// normals) where they do not: thin parts, both sides of a sheet, folds.
-// The edge and corner functions of sharp features are not built: sharp
-// edges come out rounded at the accuracy asked for. Negative inside.
+// Local functions are the paper's three kinds: a quadratic height function
+// over the points' mean plane where the normals agree; a general quadric
+// (fitted to the points and to auxiliary points along their normals) where
+// they do not: thin parts, both sides of a sheet, folds; and, where neither
+// meets the accuracy and the normals fall into two or three clusters, an
+// edge or corner function: the max or min of one height function per
+// cluster (max where the edge is convex, min where it is concave), so sharp
+// edges stay sharp instead of rounding at the accuracy. Negative inside.
 //
 // Bounds for sphere tracing are proven, not sampled: over a box, f is a
 // convex combination of the Q_i whose supports reach it, so its range lies
@@ -47,11 +49,44 @@ struct MpuOptions {
     int maxDepth = 10;
     /// Points a ball must hold; smaller balls grow until they do.
     int minPoints = 15;
+    /// Edge and corner functions where smooth ones miss the accuracy.
+    bool sharpFeatures = true;
+};
+
+/// Q(x) = c0 + g . y + y^T A y in y = x - origin.
+struct MpuQuadric {
+    Vec3 origin = Vec3::Zero();
+    Mat3 A = Mat3::Zero();
+    Vec3 g = Vec3::Zero();
+    double c0 = 0;
+
+    double evaluate(const Vec3& x, Vec3* gradient) const;
+    Interval range(const Box3& box) const;
+    double gradientBound(const Box3& box) const;
+};
+
+/// How a local function combines its quadrics (pieces p0, p1, p2).
+enum class MpuCombination : uint8_t {
+    Single,    ///< p0
+    Max,       ///< max of all: a convex edge or corner
+    Min,       ///< min of all: a concave edge or corner
+    MaxOfMin,  ///< max(min(p0, p1), p2): a corner with one concave edge (p0, p1)
+    MinOfMax,  ///< min(max(p0, p1), p2): a corner with one convex edge (p0, p1)
+};
+
+/// One local function: its ball and its pieces, pieces[first, first + count).
+struct MpuLocal {
+    Vec3 center = Vec3::Zero();
+    double radius = 0;
+    uint32_t first = 0;
+    uint8_t count = 1;
+    MpuCombination combination = MpuCombination::Single;
 };
 
 struct MpuReport {
     size_t localFunctions = 0;
     size_t generalQuadrics = 0;  ///< cells where normals disagree
+    size_t edges = 0, corners = 0;  ///< sharp-feature functions of two and three pieces
     int depth = 0;
     double maxError = 0.0;  ///< of the blended field at the input points, relative to their diagonal
     double seconds = 0.0;
@@ -62,29 +97,40 @@ public:
     /// Throws std::invalid_argument for fewer than minPoints points,
     /// non-finite values or bad options.
     static MpuField fit(const std::vector<MpuPoint>& points, const MpuOptions& options = {}, MpuReport* report = nullptr);
+    /// A field from its parts, as a saved fit gives them back; throws
+    /// std::invalid_argument when they do not make a field (pieces out of
+    /// range, non-finite numbers, an empty domain).
+    static MpuField fromParts(const Box3& domain, double support, double backgroundMargin, std::vector<MpuLocal> locals,
+                              std::vector<MpuQuadric> pieces);
 
     double value(const Vec3& p) const;
     double valueAndGradient(const Vec3& p, Vec3& gradient) const;
+    /// The value, and a radius around p proven free of zeros: from the
+    /// Lipschitz bound over a small box around p, far tighter than a
+    /// tracing cell's (the weights' slopes there multiply only the local
+    /// functions' disagreement, not their spread over the whole cell).
+    double valueAndSafeDistance(const Vec3& p, double& safeDistance) const;
     Interval range(const Box3& box) const;
     double lipschitz(const Box3& box) const;
     Box3 bounds() const { return domain_; }
     /// Local functions blended at a typical point (evaluation cost).
     size_t termCount() const { return typicalTerms_; }
 
+    // The parts, for saving.
+    const std::vector<MpuLocal>& locals() const { return locals_; }
+    const std::vector<MpuQuadric>& pieces() const { return pieces_; }
+    double support() const { return support_; }
+    double backgroundMargin() const { return backgroundMargin_; }
+
 private:
-    /// A quadric Q(x) = c0 + g . y + y^T A y in y = x - origin: either a
-    /// height function over a plane (converted) or a general quadric.
-    struct Local {
-        Vec3 center;
-        double radius = 0;
-        Vec3 origin = Vec3::Zero();
-        Mat3 A = Mat3::Zero();
-        Vec3 g = Vec3::Zero();
-        double c0 = 0;
-        double evaluate(const Vec3& x, Vec3* gradient) const;
-        Interval range(const Box3& box) const;
-        double gradientBound(const Box3& box) const;
-    };
+    using Local = MpuLocal;
+    double evaluate(const Local& l, const Vec3& x, Vec3* gradient) const;
+    Interval range(const Local& l, const Box3& box) const;
+    double gradientBound(const Local& l, const Box3& box) const;
+    /// Indexes the locals and sets the weights' lower bound.
+    void finish();
+    /// The grid cell along `axis` holding a coordinate, clamped to the grid.
+    int gridIndex(double coordinate, int axis) const;
 
     template <class Visit>
     void forLocalsAt(const Vec3& p, Visit&& visit) const;
@@ -97,11 +143,17 @@ private:
     double background(const Vec3& p, Vec3* gradient) const;
 
     std::vector<Local> locals_;
+    std::vector<MpuQuadric> pieces_;
     Box3 domain_;
+    double support_ = 0.75;
     // A uniform grid over the domain: each cell lists the locals whose ball reaches it.
     int grid_ = 1;
     Vec3 cellSize_ = Vec3::Ones();
     std::vector<uint32_t> cellStart_, cellItems_;
+    // The same lists for balls within nearMargin_ of each cell.
+    double nearMargin_ = 0.0;
+    std::vector<uint32_t> nearStart_, nearItems_;
+    std::vector<double> pieceCurvatures_;  ///< |A| of each piece
     double minimumWeight_ = 0.0;
     double backgroundMargin_ = 0.0;
     size_t typicalTerms_ = 1;
@@ -113,6 +165,7 @@ struct MpuLeafField {
 
     double value(const Vec3& p) const { return field->value(p); }
     double valueAndGradient(const Vec3& p, Vec3& gradient) const { return field->valueAndGradient(p, gradient); }
+    double valueAndSafeDistance(const Vec3& p, double& safe) const { return field->valueAndSafeDistance(p, safe); }
     Interval range(const Box3& box) const { return field->range(box); }
     double lipschitz(const Box3& box) const { return field->lipschitz(box); }
     Box3 bounds() const { return field->bounds(); }

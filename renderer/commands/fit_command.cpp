@@ -1,13 +1,16 @@
-// `isotrace fit`: a variational implicit surface through a polygon model or
-// an oriented point set, saved so scenes load it without solving again
-// ({"type": "variational", "fitted": "FIELD.json"}).
+// `isotrace fit`: an implicit surface through a polygon model or an
+// oriented point set, saved so scenes load it without fitting again:
+// variational ({"type": "variational", "fitted": "FIELD.json"}) or, with
+// --method mpu, a multi-level partition of unity ({"type": "mpu", "fitted": ...}).
 
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 
 #include "geometry/atomic_file.h"
 #include "geometry/input_error.h"
+#include "geometry/description/mpu_description.h"
 #include "geometry/description/variational_description.h"
 #include "renderer/commands/command.h"
 #include "renderer/image_output.h"
@@ -21,9 +24,14 @@ using geometry::Json;
 
 struct FitCommand {
     std::string input, output;
+    std::string method = "variational";
     double normalOffset = 0.0;  ///< 0: 0.01 of the bounding-box diagonal
     bool hermite = false;
     double margin = 0.0;        ///< 0: the default domain margin
+    // MPU options; unset: the defaults of the scene format.
+    std::optional<double> accuracy, support;
+    std::optional<int> maxDepth, minPoints;
+    bool smoothOnly = false;
     bool quiet = false;
 };
 
@@ -44,24 +52,70 @@ InputError commandLineError(const InputError& e, const std::string& input, const
     return InputError("command line", flag, e.message());
 }
 
+void writeFit(const std::string& output, const std::string& text) {
+    try {
+        geometry::writeFileAtomically(output, text);
+    } catch (const std::runtime_error& e) {
+        throw InputError(output, "", e.what());
+    }
+}
+
+int runMpuFit(const FitCommand& c, const Json& description, geometry::VariationalContext& context, bool points) {
+    geometry::JsonObjectReader reader(description, "", "command line");
+    reader.string("type");
+    geometry::MpuSource source;
+    try {
+        source = geometry::readMpuSource(reader, context);
+    } catch (const InputError& e) {
+        throw commandLineError(e, c.input, std::filesystem::absolute(c.input).string());
+    }
+    geometry::MpuReport report;
+    const geometry::MpuField field = geometry::fitMpuSource(source, geometry::JsonObjectReader(description, "", c.input), report,
+                                                            [&](const std::string& message) {
+                                                                std::fprintf(stderr, "warning: %s: %s\n", c.input.c_str(),
+                                                                             message.c_str());
+                                                            });
+    Json provenance = source.provenance;
+    provenance[points ? "points" : "mesh"]["file"] = c.input;
+    writeFit(c.output, geometry::mpuFieldToJson(field, report, provenance, source.hash).dump() + "\n");
+    if (!c.quiet)
+        std::fprintf(stderr, "fitted %zu oriented points with %zu local functions (%zu edges, %zu corners, depth %d) in %.3fs; "
+                             "worst point %.3g of the diagonal; wrote %s\n",
+                     source.points.size(), report.localFunctions, report.edges, report.corners, report.depth,
+                     report.seconds, report.maxError, c.output.c_str());
+    return kExitSuccess;
+}
+
 // Bad input (unreadable or malformed files, singular systems, too many
 // constraints) throws geometry::InputError; nothing is written then.
 int runFit(const FitCommand& c) {
     checkOutputPath(c.output, {c.input});
+    const bool mpu = c.method == "mpu";
+    if (!mpu && (c.accuracy || c.support || c.maxDepth || c.minPoints || c.smoothOnly))
+        throw InputError("command line", "--method", "--accuracy, --support, --max-depth, --min-points and --smooth-only "
+                                                     "are options of --method mpu");
+    if (mpu && (c.normalOffset > 0 || c.hermite || c.margin > 0))
+        throw InputError("command line", "--method", "--normal-offset, --hermite and --margin are options of --method variational");
     // The command line becomes a description, so files and keys are read
     // exactly as in scene files.
     const bool points = geometry::isOrientedPointFile(c.input);
-    Json description = {{"type", "variational"}, {points ? "points" : "mesh", std::filesystem::absolute(c.input).string()}};
+    Json description = {{"type", c.method}, {points ? "points" : "mesh", std::filesystem::absolute(c.input).string()}};
     if (c.normalOffset > 0) description["normal_offset"] = c.normalOffset;
     if (c.hermite) description["hermite"] = true;
     if (c.margin > 0) description["margin"] = c.margin;
-    geometry::JsonObjectReader reader(description, "", "command line");
-    reader.string("type");
+    if (c.accuracy) description["accuracy"] = *c.accuracy;
+    if (c.support) description["support"] = *c.support;
+    if (c.maxDepth) description["max_depth"] = *c.maxDepth;
+    if (c.minPoints) description["min_points"] = *c.minPoints;
+    if (c.smoothOnly) description["sharp_features"] = false;
     // Errors inside the input file name it and the line.
     geometry::VariationalContext context;
     context.warn = [&](const std::string&, const std::string&, const std::string& message) {
         std::fprintf(stderr, "warning: %s: %s\n", c.input.c_str(), message.c_str());
     };
+    if (mpu) return runMpuFit(c, description, context, points);
+    geometry::JsonObjectReader reader(description, "", "command line");
+    reader.string("type");
     geometry::VariationalSource source;
     try {
         source = geometry::readVariationalSource(reader, context);
@@ -78,13 +132,7 @@ int runFit(const FitCommand& c) {
     // Keep the input's name as given, not the absolute path used to read it.
     Json provenance = source.provenance;
     provenance[points ? "points" : "mesh"]["file"] = c.input;
-    const std::string text = geometry::variationalFieldToJson(field, report, provenance, source.hash).dump() + "\n";
-
-    try {
-        geometry::writeFileAtomically(c.output, text);
-    } catch (const std::runtime_error& e) {
-        throw InputError(c.output, "", e.what());
-    }
+    writeFit(c.output, geometry::variationalFieldToJson(field, report, provenance, source.hash).dump() + "\n");
     for (const std::string& w : report.warnings) std::fprintf(stderr, "warning: %s: %s\n", c.input.c_str(), w.c_str());
     if (!c.quiet)
         std::fprintf(stderr, "fitted %zu value and %zu gradient constraints (%zu unknowns) in %.3fs; max residual %.3g, "
@@ -99,16 +147,28 @@ int runFit(const FitCommand& c) {
 Subcommand addFitCommand(CLI::App& app) {
     auto c = std::make_shared<FitCommand>();
     CLI::App* sub = app.add_subcommand(
-        "fit", "Fit a variational implicit surface to a polygon model (OFF, OBJ, PLY) or oriented points (.xyz, .pwn, .pts)");
+        "fit", "Fit an implicit surface (variational, or multi-level partition of unity) to a polygon model (OFF, OBJ, PLY) "
+               "or oriented points (.xyz, .pwn, .pts)");
     sub->add_option("input", c->input, "Polygon model or oriented point set (x y z nx ny nz per line)")->required();
-    sub->add_option("-o,--output", c->output, "The fitted field (JSON), for {\"type\": \"variational\", \"fitted\": ...}")
+    sub->add_option("-o,--output", c->output,
+                    "The fitted field (JSON), for {\"type\": \"variational\" (or \"mpu\"), \"fitted\": ...}")
         ->required();
+    sub->add_option("--method", c->method,
+                    "variational (exact interpolation, up to 20,000 unknowns) or mpu (local fits for large scans)")
+        ->check(CLI::IsMember({"variational", "mpu"}))
+        ->capture_default_str();
     sub->add_option("--normal-offset", c->normalOffset,
                        "Distance of the normal constraints from the surface (default 0.01 of the bounding-box diagonal)")
         ->check(finitePositive());
     sub->add_flag("--hermite", c->hermite, "Exact gradient constraints instead of offset normal constraints");
     sub->add_option("--margin", c->margin, "Initial domain margin, a fraction of the bounding-box diagonal")
         ->check(finitePositive());
+    sub->add_option("--accuracy", c->accuracy, "mpu: largest distance of the points to their local fits, over the diagonal (0.002)")
+        ->check(CLI::Range(1e-9, 0.999999));
+    sub->add_option("--support", c->support, "mpu: ball radius over cell diagonal, in (0.5, 4] (0.75)");
+    sub->add_option("--max-depth", c->maxDepth, "mpu: octree levels, 1 to 20 (10)")->check(CLI::Range(1, 20));
+    sub->add_option("--min-points", c->minPoints, "mpu: points a ball must hold, 6 to 1,000 (15)")->check(CLI::Range(6, 1000));
+    sub->add_flag("--smooth-only", c->smoothOnly, "mpu: no edge and corner functions (sharp features round off)");
     sub->add_flag("-q,--quiet", c->quiet, "No summary line");
     return {sub, [c] { return runFit(*c); }};
 }

@@ -120,6 +120,19 @@ std::vector<BadInputCase> commandLineCases() {
     add(makeCase("fit_margin_nan", "fit ball.off -o out.json --margin nan", {"--margin"}));
     add(makeCase("fit_margin_negative", "fit ball.off -o out.json --margin -1", {"--margin"}));
     add(makeCase("fit_unknown_option", "fit ball.off -o out.json --method rbf", {"--method"}));
+    add(makeCase("fit_mpu_support_nine", "fit ring.xyz -o out.json --method mpu --support 9", {"--support"}));
+    add(makeCase("fit_mpu_accuracy_zero", "fit ring.xyz -o out.json --method mpu --accuracy 0", {"--accuracy"}));
+    add(makeCase("fit_mpu_depth_zero", "fit ring.xyz -o out.json --method mpu --max-depth 0", {"--max-depth"}));
+    add(makeCase("fit_mpu_with_hermite", "fit ring.xyz -o out.json --method mpu --hermite", {"--method"}));
+    add(makeCase("fit_variational_with_accuracy", "fit ring.xyz -o out.json --accuracy 0.01", {"--method"}));
+    add(makeCase("fit_mpu_too_few_points", "fit few.xyz -o out.json --method mpu", {"few.xyz", "at least 15 points"}, {},
+                 {{"few.xyz", "0 0 0 0 0 1\n1 0 1 0 0 1\n0 1 2 0 0 1\n1 1 0 0 0 1\n2 0 1 0 0 1\n0 2 2 0 0 1\n2 2 0 0 0 1\n"}}));
+    add(makeCase("fit_mpu_zero_normal", "fit flat.xyz -o out.json --method mpu", {"flat.xyz", "line 2"}, {},
+                 {{"flat.xyz", "0 0 0 0 0 1\n1 0 0 0 0 0\n"}}));
+    add(makeCase("fit_mpu_nan_point", "fit nan.xyz -o out.json --method mpu", {"nan.xyz", "line 3"}, {},
+                 {{"nan.xyz", "0 0 0 0 0 1\n1 0 0 0 0 1\n1 nan 0 0 0 1\n"}}));
+    add(makeCase("fit_mpu_points_in_a_plane", "fit plane.xyz -o out.json --method mpu", {"plane.xyz", "one plane"}, {},
+                 {{"plane.xyz", "0 0 0 0 0 1\n1 0 0 0 0 1\n2 0 0 0 0 1\n3 0 0 0 0 1\n4 0 0 0 0 1\n0 1 0 0 0 1\n1 1 0 0 0 1\n2 1 0 0 0 1\n3 1 0 0 0 1\n4 1 0 0 0 1\n0 2 0 0 0 1\n1 2 0 0 0 1\n2 2 0 0 0 1\n3 2 0 0 0 1\n4 2 0 0 0 1\n0 3 0 0 0 1\n1 3 0 0 0 1\n2 3 0 0 0 1\n3 3 0 0 0 1\n4 3 0 0 0 1\n"}}));
     add(makeCase("fit_too_many_unknowns", "fit big.xyz -o out.json", {"big.xyz"},
                 {"awk 'BEGIN { for (i = 0; i < 12000; i++) { z = -1 + 2 * (i + 0.5) / 12000; r = sqrt(1 - z * z); "
                  "a = i * 2.39996; printf \"%.6f %.6f %.6f %.6f %.6f %.6f\\n\", r * cos(a), r * sin(a), z, "

@@ -453,6 +453,37 @@ TEST(CommandLine, CompareMetricExitPathsOnHandComputedImages) {
     EXPECT_NE(channels.output.find("channels R,G,B,A differ"), std::string::npos) << channels.output;
 }
 
+// --method mpu: the saved fit loads in a scene, renders the same field as
+// fitting it in the scene, and its summary counts what was built.
+TEST(CommandLine, FitMpuWritesAFieldScenesLoad) {
+    TemporaryFolder folder;
+    const std::string fitted = folder.file("sphere.mpu.json");
+    const std::string points = std::string(ISOTRACE_TEST_DATA_DIR) + "/sphere926.pwn";
+    const auto fit = runIsotrace("fit " + points + " --method mpu --accuracy 0.004 -o " + fitted);
+    ASSERT_EQ(fit.exitCode, 0) << fit.output;
+    EXPECT_NE(fit.output.find("fitted 926 oriented points with "), std::string::npos) << fit.output;
+    const auto saved = nlohmann::json::parse(std::ifstream(fitted));
+    EXPECT_EQ(saved["source"]["points"]["count"], 926);
+    EXPECT_EQ(saved["source"]["accuracy"], 0.004);
+    EXPECT_GT(saved["locals"].size(), 8u);
+    EXPECT_LT(saved["fit"]["max_error"].get<double>(), 0.012);
+
+    std::string scene = kSmallScene;
+    const std::string sphere = "{\"type\": \"sphere\", \"radius\": 1}";
+    scene.replace(scene.find(sphere), sphere.size(), "{\"type\": \"mpu\", \"fitted\": \"sphere.mpu.json\"}");
+    const std::string loaded = folder.write("loaded.json", scene);
+    std::string inline_ = kSmallScene;
+    inline_.replace(inline_.find(sphere), sphere.size(),
+                    "{\"type\": \"mpu\", \"accuracy\": 0.004, \"points\": \"" + points + "\"}");
+    const std::string fittedHere = folder.write("inline.json", inline_);
+    for (const std::string& s : {loaded, fittedHere}) {
+        const auto r = runIsotrace("render " + s + " --width 24 --height 16 --spp 2 --no-preview -o " + s + ".exr");
+        ASSERT_EQ(r.exitCode, 0) << r.output;
+    }
+    const auto same = runIsotrace("compare " + loaded + ".exr " + fittedHere + ".exr --metric max --fail 0");
+    EXPECT_EQ(same.exitCode, 0) << same.output;
+}
+
 TEST(CommandLine, FitWritesAFieldScenesLoadAndRefusesBadInput) {
     TemporaryFolder folder;
     const std::string fitted = folder.file("sphere.fit.json");
