@@ -133,8 +133,8 @@ namespace {
 // max/min of pieces, with the gradient of the piece chosen (one-sided at a
 // crease, as for CSG).
 struct PieceValue {
-    double value;
-    Vec3 gradient;
+    double value = 0.0;
+    Vec3 gradient = Vec3::Zero();
 };
 PieceValue larger(const PieceValue& a, const PieceValue& b) { return a.value >= b.value ? a : b; }
 PieceValue smaller(const PieceValue& a, const PieceValue& b) { return a.value <= b.value ? a : b; }
@@ -708,7 +708,7 @@ double MpuField::valueAndSafeDistance(const Vec3& p, double& safeDistance) const
             // Each piece's value and gradient at p; a max or min of pieces
             // takes one of their values (and gradients).
             const MpuQuadric* q = &pieces_[l.first];
-            double v[3], gradient = 0.0, curvature = 0.0;
+            double v[3] = {0.0, 0.0, 0.0}, gradient = 0.0, curvature = 0.0;
             for (int i = 0; i < l.count; ++i) {
                 Vec3 g;
                 v[i] = q[i].evaluate(p, &g);
