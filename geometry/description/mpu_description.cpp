@@ -22,8 +22,6 @@ constexpr std::array<std::pair<MpuCombination, const char*>, 5> kCombinationName
     {MpuCombination::MinOfMax, "min_of_max"},
 }};
 
-Json vecJson(const Vec3& v) { return Json::array({v.x(), v.y(), v.z()}); }
-
 // The options as the fit uses them, field by field (hashing the struct's
 // bytes would hash its padding too).
 uint64_t hashOptions(const MpuOptions& o, uint64_t h) {
@@ -126,7 +124,7 @@ Json mpuFieldToJson(const MpuField& field, const MpuReport& report, const Json& 
               {"depth", report.depth},
               {"max_error", report.maxError},
               {"seconds", report.seconds}}},
-            {"domain", Json::array({vecJson(field.bounds().lower), vecJson(field.bounds().upper)})},
+            {"domain", Json::array({vec3Json(field.bounds().lower), vec3Json(field.bounds().upper)})},
             {"support", field.support()},
             {"background_margin", field.backgroundMargin()},
             {"locals", locals},
@@ -134,21 +132,9 @@ Json mpuFieldToJson(const MpuField& field, const MpuReport& report, const Json& 
 }
 
 MpuField mpuFieldFromJson(const Json& json, const std::string& file) {
-    if (!json.is_object() || !json.contains(kFormatKey))
-        throw InputError(file, "", std::string("not a fitted MPU field (no \"") + kFormatKey +
-                                       "\"; write one with isotrace fit --method mpu)");
-    JsonObjectReader r(json, "", file);
-    const long long version = r.integer(kFormatKey, 0, 1, 1000);
-    if (version != kFormatVersion)
-        r.fail(kFormatKey, "format version " + std::to_string(version) + " is not supported (expected " +
-                               std::to_string(kFormatVersion) + ")");
-    r.value("source");
-    r.value("fit");
-    r.string("source_hash", "");
-    const Json& domainJson = r.value("domain");
-    if (!domainJson.is_array() || domainJson.size() != 2) r.fail("domain", "expected [[xmin, ymin, zmin], [xmax, ymax, zmax]]");
-    const Box3 domain(JsonObjectReader::asVec3(domainJson[0], r.pointerOf("domain") + "/0", file),
-                      JsonObjectReader::asVec3(domainJson[1], r.pointerOf("domain") + "/1", file));
+    JsonObjectReader r =
+        openSavedFit(json, file, kFormatKey, kFormatVersion, "a fitted MPU field", "isotrace fit --method mpu");
+    const Box3 domain = readSavedDomain(r);
     const double support = r.number("support");
     const double backgroundMargin = r.number("background_margin");
     // Rows of numbers, with the row's pointer for errors.

@@ -43,7 +43,6 @@ std::vector<std::vector<double>> rows(JsonObjectReader& r, const std::string& ke
 
 Vec3 vec(const std::vector<double>& v, size_t first) { return {v[first], v[first + 1], v[first + 2]}; }
 
-Json vecJson(const Vec3& v) { return Json::array({v.x(), v.y(), v.z()}); }
 
 }  // namespace
 
@@ -238,9 +237,9 @@ std::string resolvedFileName(const std::string& name, const std::string& baseDir
 Json variationalFieldToJson(const VariationalField& f, const FitReport& report, const Json& provenance,
                             const std::string& hash) {
     Json centers = Json::array(), gradientCenters = Json::array(), gradientWeights = Json::array();
-    for (const Vec3& c : f.centers) centers.push_back(vecJson(c));
-    for (const Vec3& c : f.gradientCenters) gradientCenters.push_back(vecJson(c));
-    for (const Vec3& b : f.gradientWeights) gradientWeights.push_back(vecJson(b));
+    for (const Vec3& c : f.centers) centers.push_back(vec3Json(c));
+    for (const Vec3& c : f.gradientCenters) gradientCenters.push_back(vec3Json(c));
+    for (const Vec3& b : f.gradientWeights) gradientWeights.push_back(vec3Json(b));
     return {{kFormatKey, kFormatVersion},
             {"source", provenance},
             {"source_hash", hash},
@@ -249,33 +248,46 @@ Json variationalFieldToJson(const VariationalField& f, const FitReport& report, 
               {"seconds", report.seconds},
               {"max_residual", report.maxResidual},
               {"reciprocal_condition", report.reciprocalCondition}}},
-            {"domain", Json::array({vecJson(f.domain.lower), vecJson(f.domain.upper)})},
+            {"domain", Json::array({vec3Json(f.domain.lower), vec3Json(f.domain.upper)})},
             {"constant", f.constant},
-            {"linear", vecJson(f.linear)},
+            {"linear", vec3Json(f.linear)},
             {"centers", centers},
             {"weights", f.weights},
             {"gradient_centers", gradientCenters},
             {"gradient_weights", gradientWeights}};
 }
 
-VariationalField variationalFieldFromJson(const Json& json, const std::string& file) {
-    if (!json.is_object() || !json.contains(kFormatKey))
-        throw InputError(file, "", std::string("not a fitted variational field (no \"") + kFormatKey +
-                                       "\"; write one with isotrace fit)");
+Json vec3Json(const Vec3& v) { return Json::array({v.x(), v.y(), v.z()}); }
+
+JsonObjectReader openSavedFit(const Json& json, const std::string& file, const char* formatKey, int version,
+                              const char* what, const char* howToWrite) {
+    if (!json.is_object() || !json.contains(formatKey))
+        throw InputError(file, "", std::string("not ") + what + " (no \"" + formatKey + "\"; write one with " +
+                                       howToWrite + ")");
     JsonObjectReader r(json, "", file);
-    const long long version = r.integer(kFormatKey, 0, 1, 1000);
-    if (version != kFormatVersion)
-        r.fail(kFormatKey, "format version " + std::to_string(version) + " is not supported (expected " +
-                               std::to_string(kFormatVersion) + ")");
+    const long long found = r.integer(formatKey, 0, 1, 1000);
+    if (found != version)
+        r.fail(formatKey, "format version " + std::to_string(found) + " is not supported (expected " +
+                              std::to_string(version) + ")");
     r.value("source");
     r.value("fit");
     r.string("source_hash", "");
-    VariationalField f;
+    return r;
+}
+
+Box3 readSavedDomain(JsonObjectReader& r) {
     const Json& domain = r.value("domain");
     if (!domain.is_array() || domain.size() != 2) r.fail("domain", "expected [[xmin, ymin, zmin], [xmax, ymax, zmax]]");
-    f.domain = Box3(JsonObjectReader::asVec3(domain[0], r.pointerOf("domain") + "/0", file),
-                    JsonObjectReader::asVec3(domain[1], r.pointerOf("domain") + "/1", file));
-    if (f.domain.isEmpty() || !f.domain.isFinite()) r.fail("domain", "the domain is empty or not finite");
+    const Box3 box(JsonObjectReader::asVec3(domain[0], r.pointerOf("domain") + "/0", r.file()),
+                   JsonObjectReader::asVec3(domain[1], r.pointerOf("domain") + "/1", r.file()));
+    if (box.isEmpty() || !box.isFinite()) r.fail("domain", "the domain is empty or not finite");
+    return box;
+}
+
+VariationalField variationalFieldFromJson(const Json& json, const std::string& file) {
+    JsonObjectReader r = openSavedFit(json, file, kFormatKey, kFormatVersion, "a fitted variational field", "isotrace fit");
+    VariationalField f;
+    f.domain = readSavedDomain(r);
     f.constant = r.number("constant");
     f.linear = r.vec3("linear");
     auto points = [&](const char* key) {

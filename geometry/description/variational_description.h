@@ -71,6 +71,16 @@ std::shared_ptr<const VariationalField> fitCached(const VariationalSource& sourc
 std::shared_ptr<const VariationalField> variationalFieldFromDescription(JsonObjectReader& r,
                                                                          VariationalContext& context);
 
+/// The common head of saved fits (variational and MPU): checks the format
+/// key and version, reads past "source", "fit" and "source_hash", and
+/// returns the reader for the rest. `what` and `howToWrite` name the kind
+/// in errors ("a fitted MPU field", "isotrace fit --method mpu").
+JsonObjectReader openSavedFit(const Json& json, const std::string& file, const char* formatKey, int version,
+                              const char* what, const char* howToWrite);
+/// A saved fit's "domain": a finite, non-empty box.
+Box3 readSavedDomain(JsonObjectReader& r);
+Json vec3Json(const Vec3& v);
+
 /// The saved form of a fitted field: every number round-trips exactly, so a
 /// loaded field evaluates bit-identically to the fitted one.
 Json variationalFieldToJson(const VariationalField& field, const FitReport& report, const Json& provenance,
