@@ -139,6 +139,22 @@ struct PieceValue {
 PieceValue larger(const PieceValue& a, const PieceValue& b) { return a.value >= b.value ? a : b; }
 PieceValue smaller(const PieceValue& a, const PieceValue& b) { return a.value <= b.value ? a : b; }
 
+// The one rule of how a local's pieces combine, for values, values with
+// gradients and interval ranges alike.
+template <class T, class Larger, class Smaller>
+T combinePieces(const MpuLocal& l, const T* v, Larger larger, Smaller smaller) {
+    switch (l.combination) {
+    case MpuCombination::Single: break;
+    case MpuCombination::Max: return l.count == 3 ? larger(larger(v[0], v[1]), v[2]) : larger(v[0], v[1]);
+    case MpuCombination::Min: return l.count == 3 ? smaller(smaller(v[0], v[1]), v[2]) : smaller(v[0], v[1]);
+    case MpuCombination::MaxOfMin: return larger(smaller(v[0], v[1]), v[2]);
+    case MpuCombination::MinOfMax: return smaller(larger(v[0], v[1]), v[2]);
+    }
+    return v[0];
+}
+double largerValue(double a, double b) { return std::max(a, b); }
+double smallerValue(double a, double b) { return std::min(a, b); }
+
 }  // namespace
 
 double MpuField::evaluate(const Local& l, const Vec3& x, Vec3* gradient) const {
@@ -146,14 +162,7 @@ double MpuField::evaluate(const Local& l, const Vec3& x, Vec3* gradient) const {
     if (l.combination == MpuCombination::Single) return q[0].evaluate(x, gradient);
     PieceValue v[3]{};
     for (int k = 0; k < l.count; ++k) v[k].value = q[k].evaluate(x, &v[k].gradient);
-    PieceValue r = v[0];
-    switch (l.combination) {
-    case MpuCombination::Max: r = l.count == 3 ? larger(larger(v[0], v[1]), v[2]) : larger(v[0], v[1]); break;
-    case MpuCombination::Min: r = l.count == 3 ? smaller(smaller(v[0], v[1]), v[2]) : smaller(v[0], v[1]); break;
-    case MpuCombination::MaxOfMin: r = larger(smaller(v[0], v[1]), v[2]); break;
-    case MpuCombination::MinOfMax: r = smaller(larger(v[0], v[1]), v[2]); break;
-    case MpuCombination::Single: break;
-    }
+    const PieceValue r = combinePieces(l, v, larger, smaller);
     if (gradient) *gradient = r.gradient;
     return r.value;
 }
@@ -163,14 +172,7 @@ Interval MpuField::range(const Local& l, const Box3& box) const {
     if (l.combination == MpuCombination::Single) return q[0].range(box);
     Interval v[3]{};
     for (int k = 0; k < l.count; ++k) v[k] = q[k].range(box);
-    switch (l.combination) {
-    case MpuCombination::Max: return l.count == 3 ? maxOf(maxOf(v[0], v[1]), v[2]) : maxOf(v[0], v[1]);
-    case MpuCombination::Min: return l.count == 3 ? minOf(minOf(v[0], v[1]), v[2]) : minOf(v[0], v[1]);
-    case MpuCombination::MaxOfMin: return maxOf(minOf(v[0], v[1]), v[2]);
-    case MpuCombination::MinOfMax: return minOf(maxOf(v[0], v[1]), v[2]);
-    case MpuCombination::Single: break;
-    }
-    return v[0];
+    return combinePieces(l, v, maxOf, minOf);
 }
 
 // A max or min of pieces is Lipschitz with the largest of their constants.
@@ -348,8 +350,6 @@ public:
         }
         return worst;
     }
-
-    size_t size() const { return near_.size(); }
 
 private:
     const std::vector<MpuPoint>& points_;
@@ -715,14 +715,7 @@ double MpuField::valueAndSafeDistance(const Vec3& p, double& safeDistance) const
                 gradient = std::max(gradient, g.norm());
                 curvature = std::max(curvature, pieceCurvatures_[l.first + i]);
             }
-            double value = v[0];
-            switch (l.combination) {
-            case MpuCombination::Single: break;
-            case MpuCombination::Max: value = l.count == 3 ? std::max({v[0], v[1], v[2]}) : std::max(v[0], v[1]); break;
-            case MpuCombination::Min: value = l.count == 3 ? std::min({v[0], v[1], v[2]}) : std::min(v[0], v[1]); break;
-            case MpuCombination::MaxOfMin: value = std::max(std::min(v[0], v[1]), v[2]); break;
-            case MpuCombination::MinOfMax: value = std::min(std::max(v[0], v[1]), v[2]); break;
-            }
+            const double value = combinePieces(l, v, largerValue, smallerValue);
             seen.push_back({value, std::sqrt(r2), R, gradient, curvature});
             if (r2 >= R2) continue;
             const double s = 1.0 - r2 / R2, w = s * s * s;
