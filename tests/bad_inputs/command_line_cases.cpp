@@ -123,6 +123,8 @@ std::vector<BadInputCase> commandLineCases() {
     add(makeCase("fit_mpu_support_nine", "fit ring.xyz -o out.json --method mpu --support 9", {"--support"}));
     add(makeCase("fit_mpu_accuracy_zero", "fit ring.xyz -o out.json --method mpu --accuracy 0", {"--accuracy"}));
     add(makeCase("fit_mpu_depth_zero", "fit ring.xyz -o out.json --method mpu --max-depth 0", {"--max-depth"}));
+    add(makeCase("fit_mpu_min_points_five", "fit ring.xyz -o out.json --method mpu --min-points 5", {"--min-points"}));
+    add(makeCase("fit_variational_smooth_only", "fit ring.xyz -o out.json --smooth-only", {"--method"}));
     add(makeCase("fit_mpu_with_hermite", "fit ring.xyz -o out.json --method mpu --hermite", {"--method"}));
     add(makeCase("fit_variational_with_accuracy", "fit ring.xyz -o out.json --accuracy 0.01", {"--method"}));
     add(makeCase("fit_mpu_too_few_points", "fit few.xyz -o out.json --method mpu", {"few.xyz", "at least 15 points"}, {},

@@ -260,6 +260,9 @@ std::vector<BadInputCase> sceneFileCases() {
         {"mpu_depth_21", "/fields/ball", R"({"type": "mpu", "points": "ring.xyz", "max_depth": 21})"},
         {"mpu_min_points_five", "/fields/ball", R"({"type": "mpu", "points": "ring.xyz", "min_points": 5})"},
         {"mpu_no_points", "/fields/ball", R"({"type": "mpu"})"},
+        {"mpu_sharp_features_text", "/fields/ball", R"({"type": "mpu", "points": "ring.xyz", "sharp_features": "yes"})"},
+        {"mpu_fitted_and_points", "/fields/ball", R"({"type": "mpu", "fitted": "x.json", "points": "ring.xyz"})"},
+        {"mpu_fitted_number", "/fields/ball", R"({"type": "mpu", "fitted": 3})"},
         {"particles_count_zero", "/objects/0", R"({"field": "ball", "material": "clay", "as": "particles", "count": 0})"},
         {"particles_count_too_many", "/objects/0", R"({"field": "ball", "material": "clay", "as": "particles", "count": 20000000})"},
         {"particles_spacing_zero", "/objects/0", R"({"field": "ball", "material": "clay", "as": "particles", "spacing": 0})"},
@@ -392,6 +395,18 @@ std::vector<BadInputCase> sceneFileCases() {
     for (const FileCase& f : fits)
         add(renderOf(f.name, smallWithField(R"({"type": "variational", "fitted": "f.json"})"), {"f.json"}, {{f.file, f.content}}));
     add(renderOf("fitted_missing", smallWithField(R"({"type": "variational", "fitted": "gone.json"})"), {"gone.json"}));
+    const FileCase mpuFits[] = {
+        {"mpu_fitted_empty", "f.json", ""},
+        {"mpu_fitted_variational", "f.json", R"({"isotrace_variational_fit": 1})"},
+        {"mpu_fitted_missing_keys", "f.json", R"({"isotrace_mpu_fit": 1, "source": {}, "fit": {}})"},
+        {"mpu_fitted_bad_piece", "f.json", R"({"isotrace_mpu_fit": 1, "source": {}, "fit": {}, "domain": [[-1, -1, -1], [1, 1, 1]],
+          "support": 0.75, "background_margin": 0.001, "locals": [[0, 0, 0, 1, 0, 1, "single"]], "pieces": [[0, 0, 0]]})"},
+        {"mpu_fitted_piece_out_of_range", "f.json", R"({"isotrace_mpu_fit": 1, "source": {}, "fit": {}, "domain": [[-1, -1, -1], [1, 1, 1]],
+          "support": 0.75, "background_margin": 0.001, "locals": [[0, 0, 0, 1, 4, 1, "single"]], "pieces": []})"},
+    };
+    for (const FileCase& f : mpuFits)
+        add(renderOf(f.name, smallWithField(R"({"type": "mpu", "fitted": "f.json"})"), {"f.json"}, {{f.file, f.content}}));
+    add(renderOf("mpu_fitted_missing", smallWithField(R"({"type": "mpu", "fitted": "gone.json"})"), {"gone.json"}));
 
     const FileCase images[] = {
         {"empty", "e.exr", ""},
