@@ -139,19 +139,6 @@ struct PieceValue {
 PieceValue larger(const PieceValue& a, const PieceValue& b) { return a.value >= b.value ? a : b; }
 PieceValue smaller(const PieceValue& a, const PieceValue& b) { return a.value <= b.value ? a : b; }
 
-// The one rule of how a local's pieces combine, for values, values with
-// gradients and interval ranges alike.
-template <class T, class Larger, class Smaller>
-T combinePieces(const MpuLocal& l, const T* v, Larger larger, Smaller smaller) {
-    switch (l.combination) {
-    case MpuCombination::Single: break;
-    case MpuCombination::Max: return l.count == 3 ? larger(larger(v[0], v[1]), v[2]) : larger(v[0], v[1]);
-    case MpuCombination::Min: return l.count == 3 ? smaller(smaller(v[0], v[1]), v[2]) : smaller(v[0], v[1]);
-    case MpuCombination::MaxOfMin: return larger(smaller(v[0], v[1]), v[2]);
-    case MpuCombination::MinOfMax: return smaller(larger(v[0], v[1]), v[2]);
-    }
-    return v[0];
-}
 double largerValue(double a, double b) { return std::max(a, b); }
 double smallerValue(double a, double b) { return std::min(a, b); }
 
@@ -162,7 +149,7 @@ double MpuField::evaluate(const Local& l, const Vec3& x, Vec3* gradient) const {
     if (l.combination == MpuCombination::Single) return q[0].evaluate(x, gradient);
     PieceValue v[3]{};
     for (int k = 0; k < l.count; ++k) v[k].value = q[k].evaluate(x, &v[k].gradient);
-    const PieceValue r = combinePieces(l, v, larger, smaller);
+    const PieceValue r = combineMpuPieces(l, v, larger, smaller);
     if (gradient) *gradient = r.gradient;
     return r.value;
 }
@@ -172,7 +159,7 @@ Interval MpuField::range(const Local& l, const Box3& box) const {
     if (l.combination == MpuCombination::Single) return q[0].range(box);
     Interval v[3]{};
     for (int k = 0; k < l.count; ++k) v[k] = q[k].range(box);
-    return combinePieces(l, v, maxOf, minOf);
+    return combineMpuPieces(l, v, maxOf, minOf);
 }
 
 // A max or min of pieces is Lipschitz with the largest of their constants.
@@ -628,6 +615,11 @@ void MpuField::forLocalsTouching(const Box3& box, Visit&& visit) const {
             }
 }
 
+void MpuField::localsTouching(const Box3& box, std::vector<uint32_t>& out) const {
+    out.clear();
+    forLocalsTouching(box, [&](const Local& l, const Interval&) { out.push_back(uint32_t(&l - locals_.data())); });
+}
+
 double MpuField::value(const Vec3& p) const {
     Vec3 unused;
     return valueAndGradient(p, unused);
@@ -643,12 +635,13 @@ double MpuField::background(const Vec3& p, Vec3* gradient) const {
     return d + backgroundMargin_;
 }
 
-double MpuField::valueAndGradient(const Vec3& p, Vec3& gradient) const {
+template <class ForLocals>
+double MpuField::blend(const Vec3& p, Vec3& gradient, ForLocals&& forLocals) const {
     Vec3 gb;
     const double b = background(p, &gb);
     double W = kBackgroundWeight, F = kBackgroundWeight * b;
     Vec3 dW = Vec3::Zero(), dF = kBackgroundWeight * gb;
-    forLocalsAt(p, [&](const Local& l) {
+    forLocals([&](const Local& l) {
         const Vec3 r = p - l.center;
         const double r2 = r.squaredNorm(), R2 = l.radius * l.radius;
         if (r2 >= R2) return;
@@ -663,6 +656,16 @@ double MpuField::valueAndGradient(const Vec3& p, Vec3& gradient) const {
     });
     gradient = (dF * W - F * dW) / (W * W);
     return F / W;
+}
+
+double MpuField::valueAndGradient(const Vec3& p, Vec3& gradient) const {
+    return blend(p, gradient, [&](auto&& visit) { forLocalsAt(p, visit); });
+}
+
+double MpuField::valueAndGradient(const Vec3& p, Vec3& gradient, std::span<const uint32_t> locals) const {
+    return blend(p, gradient, [&](auto&& visit) {
+        for (const uint32_t i : locals) visit(locals_[i]);
+    });
 }
 
 double MpuField::valueAndSafeDistance(const Vec3& p, double& safeDistance) const {
@@ -715,7 +718,7 @@ double MpuField::valueAndSafeDistance(const Vec3& p, double& safeDistance) const
                 gradient = std::max(gradient, g.norm());
                 curvature = std::max(curvature, pieceCurvatures_[l.first + i]);
             }
-            const double value = combinePieces(l, v, largerValue, smallerValue);
+            const double value = combineMpuPieces(l, v, largerValue, smallerValue);
             seen.push_back({value, std::sqrt(r2), R, gradient, curvature});
             if (r2 >= R2) continue;
             const double s = 1.0 - r2 / R2, w = s * s * s;

@@ -27,6 +27,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <span>
 #include <vector>
 
 #include "geometry/bounding_box.h"
@@ -83,6 +84,21 @@ struct MpuLocal {
     MpuCombination combination = MpuCombination::Single;
 };
 
+/// The one rule of how a local's pieces combine, for values, values with
+/// gradients and interval ranges alike: v holds the pieces' values (or
+/// ranges), larger and smaller pick between two of them.
+template <class T, class Larger, class Smaller>
+T combineMpuPieces(const MpuLocal& l, const T* v, Larger larger, Smaller smaller) {
+    switch (l.combination) {
+    case MpuCombination::Single: break;
+    case MpuCombination::Max: return l.count == 3 ? larger(larger(v[0], v[1]), v[2]) : larger(v[0], v[1]);
+    case MpuCombination::Min: return l.count == 3 ? smaller(smaller(v[0], v[1]), v[2]) : smaller(v[0], v[1]);
+    case MpuCombination::MaxOfMin: return larger(smaller(v[0], v[1]), v[2]);
+    case MpuCombination::MinOfMax: return smaller(larger(v[0], v[1]), v[2]);
+    }
+    return v[0];
+}
+
 struct MpuReport {
     size_t localFunctions = 0;
     size_t generalQuadrics = 0;  ///< cells where normals disagree
@@ -105,6 +121,11 @@ public:
 
     double value(const Vec3& p) const;
     double valueAndGradient(const Vec3& p, Vec3& gradient) const;
+    /// The same from a list of locals (indices into locals()) that holds
+    /// every one whose ball reaches p, as a tracing part keeps them.
+    double valueAndGradient(const Vec3& p, Vec3& gradient, std::span<const uint32_t> locals) const;
+    /// Indices of the locals whose ball reaches the box.
+    void localsTouching(const Box3& box, std::vector<uint32_t>& out) const;
     /// The value, and a radius around p proven free of zeros: from the
     /// Lipschitz bound over a small box around p, far tighter than a
     /// tracing cell's (the weights' slopes there multiply only the local
@@ -116,7 +137,12 @@ public:
     /// Local functions blended at a typical point (evaluation cost).
     size_t termCount() const { return typicalTerms_; }
 
-    // The parts, for saving.
+    /// A faint background term keeps f defined beyond the balls: weight
+    /// kBackgroundWeight, value the distance to the domain plus the
+    /// background margin (so just the margin inside the domain).
+    static constexpr double kBackgroundWeight = 1e-6;
+
+    // The parts, for saving (and for tracers that work on them).
     const std::vector<MpuLocal>& locals() const { return locals_; }
     const std::vector<MpuQuadric>& pieces() const { return pieces_; }
     double support() const { return support_; }
@@ -139,7 +165,8 @@ private:
     template <class Visit>
     void forLocalsTouching(const Box3& box, Visit&& visit) const;
 
-    static constexpr double kBackgroundWeight = 1e-6;
+    template <class ForLocals>
+    double blend(const Vec3& p, Vec3& gradient, ForLocals&& forLocals) const;
     double background(const Vec3& p, Vec3* gradient) const;
 
     std::vector<Local> locals_;

@@ -10,12 +10,13 @@
 
 #include <tbb/parallel_for.h>
 
+#include "geometry/tracing/mpu_cells.h"
 #include "geometry/tracing/variational_cells.h"
 
 namespace isotrace::geometry {
 
 std::vector<std::shared_ptr<const CellAccelerator>> defaultCellAccelerators() {
-    return {std::make_shared<VariationalCellAccelerator>()};
+    return {std::make_shared<VariationalCellAccelerator>(), std::make_shared<MpuCellAccelerator>()};
 }
 
 TraceCounters& threadTraceCounters() {

@@ -58,6 +58,9 @@ inline std::vector<CatalogEntry> fieldCatalog() {
             {"from": [0, -0.7, 0], "to": [0, 0.7, 0.2], "radius": 0.25, "weight": 0.9}]})"},
         {"mpu_ring", R"({"type": "mpu", "sample": "ring", "count": 250})"},
         {"mpu_cube", R"({"type": "mpu", "sample": "cube", "count": 300, "accuracy": 0.01})"},
+        // Rays through MPU parts are solved in the leaf's frame: a skewing transform checks the mapping.
+        {"mpu_transformed", R"({"type": "transform", "rotate": {"axis": [1, 2, 0], "angle": 35}, "scale": [1.4, 0.7, 1.0],
+            "of": {"type": "mpu", "sample": "cube", "count": 300, "accuracy": 0.01}})"},
         {"variational", R"({"type": "variational", "boundary": [[0.8, 0.8, 0.8], [0.8, -0.8, -0.8], [-0.8, 0.8, -0.8], [-0.8, -0.8, 0.8]], "interior": [[0, 0, 0]]})"},
         {"variational_hermite", R"({"type": "variational", "hermite": true, "normals": [[0.7, 0, 0, 1, 0, 0], [-0.7, 0, 0, -1, 0, 0],
             [0, 0.5, 0, 0, 1, 0], [0, -0.5, 0, 0, -1, 0], [0, 0, 0.6, 0, 0, 1], [0, 0, -0.6, 0, 0, -1]]})"},

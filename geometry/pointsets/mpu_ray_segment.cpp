@@ -1,0 +1,176 @@
+#include "geometry/pointsets/mpu_ray_segment.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <vector>
+
+#include "geometry/bernstein_root.h"
+
+namespace isotrace::geometry {
+
+namespace {
+
+constexpr int kDegree = 8;  // weight (6) times quadric (2)
+using Polynomial = Monomials<kDegree>;
+
+// Where N's polynomial changes along the segment: at u, add `polynomial`
+// (entering a ball, or a local's next piece) and remove the previous one.
+struct Change {
+    double u;
+    uint32_t add;     ///< index into the polynomials, or kNone
+    uint32_t remove;  ///< index into the polynomials, or kNone
+};
+constexpr uint32_t kNone = UINT32_MAX;
+
+// A quadratic in u: the piece's value along x(u) = p0 + u D.
+std::array<double, 3> alongSegment(const MpuQuadric& q, const Vec3& p0, const Vec3& D) {
+    const Vec3 y = p0 - q.origin, Ay = q.A * y, AD = q.A * D;
+    return {q.c0 + q.g.dot(y) + y.dot(Ay), q.g.dot(D) + 2.0 * y.dot(AD), D.dot(AD)};
+}
+
+// w(u) Q(u), with w's cube of a quadratic given.
+Polynomial weightedPiece(const std::array<double, 7>& w, const std::array<double, 3>& q) {
+    Polynomial p{};
+    for (int i = 0; i <= 6; ++i)
+        for (int j = 0; j <= 2; ++j) p[i + j] += w[i] * q[j];
+    return p;
+}
+
+// The roots of a u^2 + b u + c in (lo, hi), ascending, appended to out.
+void rootsBetween(double a, double b, double c, double lo, double hi, double* out, int& count) {
+    if (a == 0.0) {
+        if (b != 0.0) {
+            const double u = -c / b;
+            if (u > lo && u < hi) out[count++] = u;
+        }
+        return;
+    }
+    const double disc = b * b - 4.0 * a * c;
+    if (disc < 0.0) return;
+    // The stable pair: q = -(b + sign(b) sqrt(disc)) / 2, roots q / a and c / q.
+    const double q = -0.5 * (b + std::copysign(std::sqrt(disc), b));
+    double r[2] = {q / a, q != 0.0 ? c / q : q / a};
+    if (r[0] > r[1]) std::swap(r[0], r[1]);
+    for (double u : r)
+        if (u > lo && u < hi) out[count++] = u;
+}
+
+struct PieceChoice {
+    double value;
+    int index;
+};
+PieceChoice largerChoice(const PieceChoice& a, const PieceChoice& b) { return a.value >= b.value ? a : b; }
+PieceChoice smallerChoice(const PieceChoice& a, const PieceChoice& b) { return a.value <= b.value ? a : b; }
+
+}  // namespace
+
+MpuSegmentRoot firstRootAlongSegment(const MpuField& field, std::span<const uint32_t> locals, const Vec3& origin,
+                                     const Vec3& direction, double t0, double t1, double tolerance) {
+    MpuSegmentRoot result;
+    if (!(t1 > t0)) return result;
+    // Per-thread scratch: grows to the largest part once, then reused.
+    thread_local std::vector<Polynomial> polynomials;
+    thread_local std::vector<Change> changes;
+    polynomials.clear();
+    changes.clear();
+    const Vec3 p0 = origin + t0 * direction, D = (t1 - t0) * direction;
+    const double DD = D.squaredNorm();
+    // The background's term inside the domain: its weight times its margin.
+    Polynomial sum{};
+    sum[0] = MpuField::kBackgroundWeight * field.backgroundMargin();
+    const std::vector<MpuLocal>& all = field.locals();
+    const std::vector<MpuQuadric>& pieces = field.pieces();
+    for (const uint32_t index : locals) {
+        const MpuLocal& l = all[index];
+        // s(u) = 1 - |p0 + u D - c|^2 / R^2 = s0 + s1 u + s2 u^2; the ball is s > 0.
+        const Vec3 r0 = p0 - l.center;
+        const double inverseR2 = 1.0 / (l.radius * l.radius);
+        const double s0 = 1.0 - r0.squaredNorm() * inverseR2, s1 = -2.0 * r0.dot(D) * inverseR2, s2 = -DD * inverseR2;
+        const double disc = s1 * s1 - 4.0 * s2 * s0;
+        if (!(disc > 0.0)) continue;
+        const double root = std::sqrt(disc);
+        // s2 < 0: the ball is between the roots (-s1 + root) / (2 s2) and (-s1 - root) / (2 s2).
+        const double enter = std::max(0.0, (-s1 + root) / (2.0 * s2)), leave = std::min(1.0, (-s1 - root) / (2.0 * s2));
+        if (!(enter < leave)) continue;
+        ++result.localTerms;
+        // w = s^3.
+        const std::array<double, 5> s2poly{s0 * s0, 2 * s0 * s1, s1 * s1 + 2 * s0 * s2, 2 * s1 * s2, s2 * s2};
+        std::array<double, 7> w{};
+        for (int i = 0; i <= 4; ++i) {
+            w[i] += s2poly[i] * s0;
+            w[i + 1] += s2poly[i] * s1;
+            w[i + 2] += s2poly[i] * s2;
+        }
+        // The local's pieces along the segment, and the intervals of u on
+        // which each is the one its combination takes.
+        std::array<double, 3> q[3];
+        const MpuQuadric* piece = &pieces[l.first];
+        for (int k = 0; k < l.count; ++k) q[k] = alongSegment(piece[k], p0, D);
+        double bounds[9] = {enter};  // enter, up to 3 pairs of crossings, leave
+        int boundCount = 1;
+        if (l.count > 1)
+            for (int i = 0; i < l.count; ++i)
+                for (int j = i + 1; j < l.count; ++j)
+                    rootsBetween(q[i][2] - q[j][2], q[i][1] - q[j][1], q[i][0] - q[j][0], enter, leave, bounds,
+                                 boundCount);
+        for (int i = 2; i < boundCount; ++i)  // insertion sort of at most six crossings
+            for (int j = i; j > 1 && bounds[j - 1] > bounds[j]; --j) std::swap(bounds[j - 1], bounds[j]);
+        bounds[boundCount] = leave;
+        uint32_t previous = kNone;
+        int previousPiece = -1;
+        for (int k = 0; k < boundCount; ++k) {
+            int chosen = 0;
+            if (l.count > 1) {
+                const double mid = 0.5 * (bounds[k] + bounds[k + 1]);
+                PieceChoice v[3];
+                for (int i = 0; i < l.count; ++i) v[i] = {q[i][0] + mid * (q[i][1] + mid * q[i][2]), i};
+                chosen = combineMpuPieces(l, v, largerChoice, smallerChoice).index;
+            }
+            if (chosen == previousPiece) continue;  // the same piece across a crossing of two others
+            const auto added = uint32_t(polynomials.size());
+            polynomials.push_back(weightedPiece(w, q[chosen]));
+            if (bounds[k] <= 0.0) {
+                for (int c = 0; c <= kDegree; ++c) sum[c] += polynomials.back()[c];
+            } else {
+                changes.push_back({bounds[k], added, previous});
+            }
+            previous = added;
+            previousPiece = chosen;
+        }
+        if (leave < 1.0) changes.push_back({leave, kNone, previous});
+    }
+    std::sort(changes.begin(), changes.end(), [](const Change& a, const Change& b) { return a.u < b.u; });
+    // Sweep the pieces in order; the first root found is the first on the segment.
+    const double uTolerance = tolerance / (t1 - t0);
+    double start = 0.0;
+    size_t next = 0;
+    while (true) {
+        const double end = next < changes.size() ? changes[next].u : 1.0;
+        if (end > start) {
+            ++result.pieces;
+            BernsteinRootStats stats;
+            if (const auto u = firstBernsteinRoot<kDegree>(sum, start, end, uTolerance, &stats)) {
+                result.hit = true;
+                result.t = t0 + *u * (t1 - t0);
+                result.pieces += stats.subdivisions + stats.evaluations;
+                return result;
+            }
+            result.pieces += stats.subdivisions;
+        }
+        if (next == changes.size()) break;
+        // Apply every change at this u.
+        const double at = changes[next].u;
+        for (; next < changes.size() && changes[next].u == at; ++next) {
+            const Change& c = changes[next];
+            if (c.add != kNone)
+                for (int k = 0; k <= kDegree; ++k) sum[k] += polynomials[c.add][k];
+            if (c.remove != kNone)
+                for (int k = 0; k <= kDegree; ++k) sum[k] -= polynomials[c.remove][k];
+        }
+        start = std::max(start, at);
+    }
+    return result;
+}
+
+}  // namespace isotrace::geometry
