@@ -3,9 +3,11 @@
 
 #include <algorithm>
 #include <chrono>
+#include <filesystem>
 #include <functional>
 #include <memory>
 #include <numbers>
+#include <string>
 #include <vector>
 
 #include "renderer/scene.h"
@@ -22,6 +24,11 @@ inline double medianSeconds(int runs, const std::function<void()>& work) {
     }
     std::sort(times.begin(), times.end());
     return times[times.size() / 2];
+}
+
+/// A file of this name in the system's temporary folder (benches' inputs made on the fly).
+inline std::string temporaryPath(const std::string& name) {
+    return (std::filesystem::temp_directory_path() / name).string();
 }
 
 /// A torus tessellated into 2 * rings * segments triangles.
