@@ -83,16 +83,20 @@ MpuSegmentRoot firstRootAlongSegment(const MpuField& field, std::span<const uint
     const std::vector<MpuQuadric>& pieces = field.pieces();
     for (const uint32_t index : locals) {
         const MpuLocal& l = all[index];
-        // s(u) = 1 - |p0 + u D - c|^2 / R^2 = s0 + s1 u + s2 u^2; the ball is s > 0.
+        // s(u) = 1 - |p0 + u D - c|^2 / R^2 = s0 + s1 u + s2 u^2; the ball is
+        // s > 0. Most balls listed for a part miss the segment: test R^2 s
+        // first, without a division.
         const Vec3 r0 = p0 - l.center;
-        const double inverseR2 = 1.0 / (l.radius * l.radius);
-        const double s0 = 1.0 - r0.squaredNorm() * inverseR2, s1 = -2.0 * r0.dot(D) * inverseR2, s2 = -DD * inverseR2;
-        const double disc = s1 * s1 - 4.0 * s2 * s0;
+        const double R2 = l.radius * l.radius, r0D = r0.dot(D);
+        const double scaled0 = R2 - r0.squaredNorm();  // R^2 s0
+        const double disc = r0D * r0D + DD * scaled0;   // (R^2)^2 (s1^2 - 4 s2 s0) / 4
         if (!(disc > 0.0)) continue;
+        // s2 < 0: the ball is between u = (-r0D -+ sqrt(disc)) / DD.
         const double root = std::sqrt(disc);
-        // s2 < 0: the ball is between the roots (-s1 + root) / (2 s2) and (-s1 - root) / (2 s2).
-        const double enter = std::max(0.0, (-s1 + root) / (2.0 * s2)), leave = std::min(1.0, (-s1 - root) / (2.0 * s2));
+        const double enter = std::max(0.0, (-r0D - root) / DD), leave = std::min(1.0, (-r0D + root) / DD);
         if (!(enter < leave)) continue;
+        const double inverseR2 = 1.0 / R2;
+        const double s0 = scaled0 * inverseR2, s1 = -2.0 * r0D * inverseR2, s2 = -DD * inverseR2;
         ++result.localTerms;
         // w = s^3.
         const std::array<double, 5> s2poly{s0 * s0, 2 * s0 * s1, s1 * s1 + 2 * s0 * s2, 2 * s1 * s2, s2 * s2};
