@@ -74,8 +74,14 @@ public:
         if (!objects.is_array()) r.fail("objects", "expected an array of objects");
         if (objects.empty()) r.fail("objects", "the scene is empty: add at least one object");
         if (r.has("lights")) readLights(r.value("lights"), r.pointerOf("lights"));
-        for (size_t i = 0; i < objects.size(); ++i) readObject(objects[i], jsonPointerAppend("/objects", i));
+        std::vector<ObjectRequest> requests;
+        for (size_t i = 0; i < objects.size(); ++i) requests.push_back(readObject(objects[i], jsonPointerAppend("/objects", i)));
         r.finish();
+        // Every field shown compiles (and fits) before any surface, mesh or
+        // particles are built: an error in one field costs nothing else.
+        for (const ObjectRequest& q : requests)
+            if (!q.field.empty()) compileShown(q.field);
+        for (ObjectRequest& q : requests) buildObject(q);
         return builder_.build();
     }
 
@@ -183,6 +189,7 @@ private:
 
     /// A field an object shows, whose surface must fit single-precision rays.
     geometry::FieldProgram compileShown(const std::string& field) {
+        if (const auto it = shownPrograms_.find(field); it != shownPrograms_.end()) return it->second;
         geometry::FieldProgram program = fields_.compile(field);
         const geometry::Box3& box = program.bounds();
         const double reach = std::max(box.lower.cwiseAbs().maxCoeff(), box.upper.cwiseAbs().maxCoeff());
@@ -192,6 +199,7 @@ private:
                     << " from the origin; beyond 1e15 single-precision rays cannot represent it";
             throw InputError(path_, jsonPointerAppend("/fields", field), message.str());
         }
+        shownPrograms_.emplace(field, program);
         return program;
     }
 
@@ -210,9 +218,27 @@ private:
         }
     }
 
-    void readObject(const Json& object, const std::string& pointer) {
-        JsonObjectReader r(object, pointer, path_);
-        SceneObject o;
+    // What an object asks for, read and checked before anything is built:
+    // a typo in the last object (or in a field it shows) fails at once,
+    // not after the fits, surfaces, meshes and particles of the others.
+    struct ObjectRequest {
+        explicit ObjectRequest(JsonObjectReader r) : reader(std::move(r)) {}
+        JsonObjectReader reader;
+        SceneObject object;  ///< name, material, transform, kind
+        std::string field;   ///< shown field, or empty for a mesh
+        std::string as;
+        geometry::PolygonizeOptions polygonize;
+        geometry::ParticleOptions particles;
+        double discScale = 0.9;
+        std::string meshFile;  ///< a mesh file, resolved against the scene's folder
+        TriangleMesh mesh;     ///< an inline mesh, checked
+        bool smooth = false;
+    };
+
+    ObjectRequest readObject(const Json& object, const std::string& pointer) {
+        ObjectRequest q(JsonObjectReader(object, pointer, path_));
+        JsonObjectReader& r = q.reader;
+        SceneObject& o = q.object;
         o.name = r.string("name", pointer);
         o.material = materialNamed(r);
         if (r.has("transform")) {
@@ -229,74 +255,45 @@ private:
         if (int(hasField) + int(hasMesh) + int(hasInline) != 1)
             r.failHere("an object needs exactly one of \"field\", \"mesh\" (a file) or \"vertices\"/\"indices\"");
         if (hasField) {
-            const std::string field = r.string("field");
-            if (!fields_.contains(field)) {
-                std::string message = "unknown field \"" + field + "\"";
-                if (auto near = geometry::nearestName(field, fields_.names())) message += " (did you mean \"" + *near + "\"?)";
+            q.field = r.string("field");
+            if (!fields_.contains(q.field)) {
+                std::string message = "unknown field \"" + q.field + "\"";
+                if (auto near = geometry::nearestName(q.field, fields_.names())) message += " (did you mean \"" + *near + "\"?)";
                 r.fail("field", message);
             }
-            std::string as = r.choice("as", {"implicit", "mesh", "particles"}, "implicit");
+            q.as = r.choice("as", {"implicit", "mesh", "particles"}, "implicit");
             // Mesh settings are read whatever "as" says, so --as can switch.
-            geometry::PolygonizeOptions polygonize;
-            polygonize.method = r.choice("method", {"marching_cubes", "adaptive"}, "marching_cubes") == "adaptive"
-                                    ? geometry::PolygonizeMethod::Adaptive
-                                    : geometry::PolygonizeMethod::MarchingCubes;
-            polygonize.resolution =
+            q.polygonize.method = r.choice("method", {"marching_cubes", "adaptive"}, "marching_cubes") == "adaptive"
+                                      ? geometry::PolygonizeMethod::Adaptive
+                                      : geometry::PolygonizeMethod::MarchingCubes;
+            q.polygonize.resolution =
                 static_cast<int>(r.integer("resolution", 0, 1, geometry::kMaxPolygonizeResolution));
-            polygonize.tolerance = r.has("tolerance") ? r.positiveNumber("tolerance") : 0.0;
+            q.polygonize.tolerance = r.has("tolerance") ? r.positiveNumber("tolerance") : 0.0;
             // Particle settings likewise.
-            geometry::ParticleOptions particles;
             if (r.has("spacing")) {
-                particles.spacing = r.positiveNumber("spacing");
+                q.particles.spacing = r.positiveNumber("spacing");
                 if (r.has("count")) r.fail("count", "give \"count\" or \"spacing\", not both");
             } else {
-                particles.count = size_t(r.integer("count", 5000, 1, 10000000));
+                q.particles.count = size_t(r.integer("count", 5000, 1, 10000000));
             }
-            particles.seed = uint64_t(r.integer("seed", 1, 0, std::numeric_limits<int64_t>::max()));
-            const double discScale = r.number("disc_scale", 0.9);
-            if (!(discScale > 0 && discScale <= 4)) r.fail("disc_scale", "must be in (0, 4]");
-            if (overrides_.fieldMode == SceneOverrides::FieldMode::Implicit) as = "implicit";
-            if (overrides_.fieldMode == SceneOverrides::FieldMode::Mesh) as = "mesh";
-            if (as == "mesh") {
-                o.kind = SceneObject::Kind::Mesh;
-                o.shape = polygonizedMesh(field, polygonize, r);
-            } else if (as == "particles") {
-                o.kind = SceneObject::Kind::Discs;
-                o.shape = particleDiscs(field, particles, discScale, r);
-            } else {
-                o.kind = SceneObject::Kind::Implicit;
-                auto it = surfaceIndex_.find(field);
-                if (it == surfaceIndex_.end()) {
-                    geometry::FieldProgram program = compileShown(field);
-                    std::unique_ptr<geometry::ImplicitSurface> surface;
-                    try {
-                        surface = std::make_unique<geometry::ImplicitSurface>(std::move(program));
-                    } catch (const std::invalid_argument& e) {
-                        throw InputError(path_, jsonPointerAppend("/fields", field), e.what());
-                    }
-                    it = surfaceIndex_.emplace(field, builder_.addSurface(std::move(surface))).first;
-                }
-                o.shape = it->second;
-            }
+            q.particles.seed = uint64_t(r.integer("seed", 1, 0, std::numeric_limits<int64_t>::max()));
+            q.discScale = r.number("disc_scale", 0.9);
+            if (!(q.discScale > 0 && q.discScale <= 4)) r.fail("disc_scale", "must be in (0, 4]");
+            if (overrides_.fieldMode == SceneOverrides::FieldMode::Implicit) q.as = "implicit";
+            if (overrides_.fieldMode == SceneOverrides::FieldMode::Mesh) q.as = "mesh";
+            o.kind = q.as == "mesh"        ? SceneObject::Kind::Mesh
+                     : q.as == "particles" ? SceneObject::Kind::Discs
+                                           : SceneObject::Kind::Implicit;
         } else {
             o.kind = SceneObject::Kind::Mesh;
-            std::string key = hasMesh ? "mesh" : "vertices";
-            std::string cacheKey;
-            TriangleMesh mesh;
             if (hasMesh) {
-                const std::string file = r.string("mesh");
-                std::filesystem::path p(file);
+                std::filesystem::path p(r.string("mesh"));
                 if (p.is_relative()) p = directory_ / p;
-                try {
-                    mesh = loadTriangleMesh(p.string());
-                } catch (const InputError& e) {
-                    throw InputError(path_, r.pointerOf("mesh"), "\"" + p.string() + "\": " + e.message() +
-                                                                     (e.where().empty() ? "" : " (" + e.where() + ")"));
-                }
+                q.meshFile = p.string();
             } else {
                 const std::vector<double> v = r.numbers("vertices");
                 if (v.size() % 3 != 0 || v.empty()) r.fail("vertices", "expected x y z triples");
-                for (double x : v) mesh.positions.push_back(float(x));
+                for (double x : v) q.mesh.positions.push_back(float(x));
                 const Json& idx = r.value("indices");
                 if (!idx.is_array() || idx.empty() || idx.size() % 3 != 0)
                     r.fail("indices", "expected a non-empty array of vertex indices, three per triangle");
@@ -306,15 +303,52 @@ private:
                     if (!idx[i].is_number_integer() || idx[i].get<int64_t>() < 0 ||
                         idx[i].get<int64_t>() > std::numeric_limits<uint32_t>::max())
                         throw InputError(path_, jsonPointerAppend(r.pointerOf("indices"), i), "expected a vertex index (a whole number >= 0)");
-                    mesh.indices.push_back(idx[i].get<uint32_t>());
+                    q.mesh.indices.push_back(idx[i].get<uint32_t>());
                 }
-                key = "indices";
+                validateMesh(q.mesh, r, "indices");
             }
-            validateMesh(mesh, r, key);
-            if (r.boolean("smooth", false)) mesh.computeSmoothNormals();
-            o.shape = builder_.addMesh(std::move(mesh));
+            if (hasMesh) r.boolean("drop_degenerate", false);  // read again when the file is loaded
+            q.smooth = r.boolean("smooth", false);
         }
         r.finish();
+        return q;
+    }
+
+    void buildObject(ObjectRequest& q) {
+        JsonObjectReader& r = q.reader;
+        SceneObject o = q.object;
+        if (!q.field.empty()) {
+            if (q.as == "mesh") {
+                o.shape = polygonizedMesh(q.field, q.polygonize, r);
+            } else if (q.as == "particles") {
+                o.shape = particleDiscs(q.field, q.particles, q.discScale, r);
+            } else {
+                auto it = surfaceIndex_.find(q.field);
+                if (it == surfaceIndex_.end()) {
+                    std::unique_ptr<geometry::ImplicitSurface> surface;
+                    try {
+                        surface = std::make_unique<geometry::ImplicitSurface>(compileShown(q.field));
+                    } catch (const std::invalid_argument& e) {
+                        throw InputError(path_, jsonPointerAppend("/fields", q.field), e.what());
+                    }
+                    it = surfaceIndex_.emplace(q.field, builder_.addSurface(std::move(surface))).first;
+                }
+                o.shape = it->second;
+            }
+        } else {
+            TriangleMesh mesh = std::move(q.mesh);
+            if (!q.meshFile.empty()) {
+                try {
+                    mesh = loadTriangleMesh(q.meshFile);
+                } catch (const InputError& e) {
+                    throw InputError(path_, r.pointerOf("mesh"), "\"" + q.meshFile + "\": " + e.message() +
+                                                                     (e.where().empty() ? "" : " (" + e.where() + ")"));
+                }
+                validateMesh(mesh, r, "mesh");
+            }
+            if (q.smooth) mesh.computeSmoothNormals();
+            o.shape = builder_.addMesh(std::move(mesh));
+        }
         builder_.addObject(o);
     }
 
@@ -376,6 +410,7 @@ private:
     bool hasFields_ = false;
     std::map<std::string, int> discIndex_;
     std::map<std::string, int> surfaceIndex_;
+    std::map<std::string, geometry::FieldProgram> shownPrograms_;  ///< compiled once per field
     std::map<std::string, int> meshIndex_;
 };
 
