@@ -5,7 +5,7 @@
 #include <cmath>
 #include <vector>
 
-#include "geometry/bernstein_root.h"
+#include "geometry/segment_polynomial.h"
 
 namespace isotrace::geometry {
 
@@ -14,15 +14,6 @@ namespace {
 constexpr int kDegree = 8;  // weight (6) times quadric (2)
 using Polynomial = Monomials<kDegree>;
 
-// Where N's polynomial changes along the segment: at u, add `polynomial`
-// (entering a ball, or a local's next piece) and remove the previous one.
-struct Change {
-    double u;
-    uint32_t add;     ///< index into the polynomials, or kNone
-    uint32_t remove;  ///< index into the polynomials, or kNone
-};
-constexpr uint32_t kNone = UINT32_MAX;
-
 // A quadratic in u: the piece's value along x(u) = p0 + u D.
 std::array<double, 3> alongSegment(const MpuQuadric& q, const Vec3& p0, const Vec3& D) {
     const Vec3 y = p0 - q.origin, Ay = q.A * y, AD = q.A * D;
@@ -30,7 +21,7 @@ std::array<double, 3> alongSegment(const MpuQuadric& q, const Vec3& p0, const Ve
 }
 
 // w(u) Q(u), with w's cube of a quadratic given.
-Polynomial weightedPiece(const std::array<double, 7>& w, const std::array<double, 3>& q) {
+Polynomial weightedPiece(const Monomials<6>& w, const std::array<double, 3>& q) {
     Polynomial p{};
     for (int i = 0; i <= 6; ++i)
         for (int j = 0; j <= 2; ++j) p[i + j] += w[i] * q[j];
@@ -70,15 +61,12 @@ MpuSegmentRoot firstRootAlongSegment(const MpuField& field, std::span<const uint
     MpuSegmentRoot result;
     if (!(t1 > t0)) return result;
     // Per-thread scratch: grows to the largest part once, then reused.
-    thread_local std::vector<Polynomial> polynomials;
-    thread_local std::vector<Change> changes;
-    polynomials.clear();
-    changes.clear();
+    thread_local SegmentPolynomialSum<kDegree> sum;
+    sum.clear();
     const Vec3 p0 = origin + t0 * direction, D = (t1 - t0) * direction;
     const double DD = D.squaredNorm();
     // The background's term inside the domain: its weight times its margin.
-    Polynomial sum{};
-    sum[0] = MpuField::kBackgroundWeight * field.backgroundMargin();
+    sum.addConstant(MpuField::kBackgroundWeight * field.backgroundMargin());
     const std::vector<MpuLocal>& all = field.locals();
     const std::vector<MpuQuadric>& pieces = field.pieces();
     for (const uint32_t index : locals) {
@@ -98,14 +86,7 @@ MpuSegmentRoot firstRootAlongSegment(const MpuField& field, std::span<const uint
         const double inverseR2 = 1.0 / R2;
         const double s0 = scaled0 * inverseR2, s1 = -2.0 * r0D * inverseR2, s2 = -DD * inverseR2;
         ++result.localTerms;
-        // w = s^3.
-        const std::array<double, 5> s2poly{s0 * s0, 2 * s0 * s1, s1 * s1 + 2 * s0 * s2, 2 * s1 * s2, s2 * s2};
-        std::array<double, 7> w{};
-        for (int i = 0; i <= 4; ++i) {
-            w[i] += s2poly[i] * s0;
-            w[i + 1] += s2poly[i] * s1;
-            w[i + 2] += s2poly[i] * s2;
-        }
+        const Monomials<6> w = composeWithQuadratic<3>({0.0, 0.0, 0.0, 1.0}, s0, s1, s2);  // s^3
         // The local's pieces along the segment, and the intervals of u on
         // which each is the one its combination takes.
         std::array<double, 3> q[3];
@@ -121,8 +102,8 @@ MpuSegmentRoot firstRootAlongSegment(const MpuField& field, std::span<const uint
         for (int i = 2; i < boundCount; ++i)  // insertion sort of at most six crossings
             for (int j = i; j > 1 && bounds[j - 1] > bounds[j]; --j) std::swap(bounds[j - 1], bounds[j]);
         bounds[boundCount] = leave;
-        uint32_t previous = kNone;
         int previousPiece = -1;
+        double from = enter;
         for (int k = 0; k < boundCount; ++k) {
             int chosen = 0;
             if (l.count > 1) {
@@ -131,48 +112,20 @@ MpuSegmentRoot firstRootAlongSegment(const MpuField& field, std::span<const uint
                 for (int i = 0; i < l.count; ++i) v[i] = {q[i][0] + mid * (q[i][1] + mid * q[i][2]), i};
                 chosen = combineMpuPieces(l, v, largerChoice, smallerChoice).index;
             }
-            if (chosen == previousPiece) continue;  // the same piece across a crossing of two others
-            const auto added = uint32_t(polynomials.size());
-            polynomials.push_back(weightedPiece(w, q[chosen]));
-            if (bounds[k] <= 0.0) {
-                for (int c = 0; c <= kDegree; ++c) sum[c] += polynomials.back()[c];
-            } else {
-                changes.push_back({bounds[k], added, previous});
+            // The same piece across a crossing of two others goes on.
+            if (previousPiece >= 0 && chosen != previousPiece) {
+                sum.add(weightedPiece(w, q[previousPiece]), from, bounds[k]);
+                from = bounds[k];
             }
-            previous = added;
             previousPiece = chosen;
         }
-        if (leave < 1.0) changes.push_back({leave, kNone, previous});
+        sum.add(weightedPiece(w, q[previousPiece]), from, leave);
     }
-    std::sort(changes.begin(), changes.end(), [](const Change& a, const Change& b) { return a.u < b.u; });
-    // Sweep the pieces in order; the first root found is the first on the segment.
-    const double uTolerance = tolerance / (t1 - t0);
-    double start = 0.0;
-    size_t next = 0;
-    while (true) {
-        const double end = next < changes.size() ? changes[next].u : 1.0;
-        if (end > start) {
-            ++result.pieces;
-            BernsteinRootStats stats;
-            if (const auto u = firstBernsteinRoot<kDegree>(sum, start, end, uTolerance, &stats)) {
-                result.hit = true;
-                result.t = t0 + *u * (t1 - t0);
-                result.pieces += stats.subdivisions + stats.evaluations;
-                return result;
-            }
-            result.pieces += stats.subdivisions;
-        }
-        if (next == changes.size()) break;
-        // Apply every change at this u.
-        const double at = changes[next].u;
-        for (; next < changes.size() && changes[next].u == at; ++next) {
-            const Change& c = changes[next];
-            if (c.add != kNone)
-                for (int k = 0; k <= kDegree; ++k) sum[k] += polynomials[c.add][k];
-            if (c.remove != kNone)
-                for (int k = 0; k <= kDegree; ++k) sum[k] -= polynomials[c.remove][k];
-        }
-        start = std::max(start, at);
+    const SegmentPolynomialSum<kDegree>::Root root = sum.firstRoot(tolerance / (t1 - t0));
+    result.pieces = root.pieces;
+    if (root.found) {
+        result.hit = true;
+        result.t = t0 + root.u * (t1 - t0);
     }
     return result;
 }

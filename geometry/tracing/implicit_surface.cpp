@@ -10,13 +10,15 @@
 
 #include <tbb/parallel_for.h>
 
+#include "geometry/tracing/blob_cells.h"
 #include "geometry/tracing/mpu_cells.h"
 #include "geometry/tracing/variational_cells.h"
 
 namespace isotrace::geometry {
 
 std::vector<std::shared_ptr<const CellAccelerator>> defaultCellAccelerators() {
-    return {std::make_shared<VariationalCellAccelerator>(), std::make_shared<MpuCellAccelerator>()};
+    return {std::make_shared<VariationalCellAccelerator>(), std::make_shared<MpuCellAccelerator>(),
+            std::make_shared<BlobCellAccelerator>()};
 }
 
 TraceCounters& threadTraceCounters() {

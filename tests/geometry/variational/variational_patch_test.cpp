@@ -13,6 +13,7 @@
 #include "geometry/tracing/implicit_surface.h"
 #include "geometry/variational/variational_patch.h"
 #include "support/embree_scene.h"
+#include "support/same_hits.h"
 #include "support/random_rays.h"
 
 using namespace isotrace::geometry;
@@ -122,48 +123,9 @@ TEST(VariationalPatch, HermiteFieldsHaveNone) {
 namespace {
 
 // The hand traced through its models and by exact marching (the fields'
-// general sphere tracer with its O(N) safe radius) must agree on every ray,
-// primary and secondary (starting on the surface, as bounce rays do).
+// general sphere tracer with its O(N) safe radius) must agree on every ray.
 void expectSameHits(const FieldProgram& program, int rays) {
-    ImplicitSurfaceOptions exactOptions;
-    exactOptions.cellAccelerators.clear();
-    ImplicitSurface fast(program), exact(program, exactOptions);
-    ASSERT_GT(fast.acceleratedCellCount(), 0u);
-    ASSERT_EQ(exact.acceleratedCellCount(), 0u);
-    isotrace::testing::EmbreeScene fastScene, exactScene;
-    fastScene.attach(fast);
-    exactScene.attach(exact);
-    fastScene.commit();
-    exactScene.commit();
-    const double size = fast.bounds().extent().norm();
-    std::mt19937 rng(11);
-    std::normal_distribution<double> n;
-    int hits = 0, secondaryHits = 0;
-    for (int i = 0; i < rays; ++i) {
-        const auto ray = isotrace::testing::randomRayAt(fast.bounds(), rng);
-        const auto a = fastScene.intersect(ray.origin, ray.direction), b = exactScene.intersect(ray.origin, ray.direction);
-        ASSERT_EQ(a.hit, b.hit) << "ray " << i;
-        if (!a.hit) continue;
-        ++hits;
-        ASSERT_NEAR(a.t, b.t, 1e-5 * size) << "ray " << i;
-        // Normals come from the exact gradient at (or within resolution of) the hit.
-        EXPECT_GT(a.normal.normalized().dot(b.normal.normalized()), 0.9999) << "ray " << i;
-        // A ray leaving the surface into the outer hemisphere.
-        const Vec3 p = ray.origin + double(a.t) * ray.direction, normal = b.normal.normalized();
-        Vec3 d = Vec3(n(rng), n(rng), n(rng)).normalized();
-        if (d.dot(normal) < 0) d = -d;
-        const Vec3 o = (p + 1e-4 * size * normal).cast<float>().cast<double>();
-        d = d.cast<float>().cast<double>();
-        const auto c = fastScene.intersect(o, d), e = exactScene.intersect(o, d);
-        ASSERT_EQ(c.hit, e.hit) << "secondary ray " << i;
-        EXPECT_EQ(fastScene.occluded(o, d, 1e30), exactScene.occluded(o, d, 1e30)) << "secondary ray " << i;
-        if (c.hit) {
-            ++secondaryHits;
-            ASSERT_NEAR(c.t, e.t, 1e-5 * size) << "secondary ray " << i;
-        }
-    }
-    EXPECT_GT(hits, rays / 5);
-    EXPECT_GT(secondaryHits, 0);
+    isotrace::testing::expectSameHitsAsMarching(program, rays, rays / 5, 1, 0.9999);
 }
 
 }  // namespace

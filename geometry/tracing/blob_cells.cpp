@@ -1,0 +1,129 @@
+#include "geometry/tracing/blob_cells.h"
+
+#include <cmath>
+#include <vector>
+
+#include "geometry/segment_polynomial.h"
+
+namespace isotrace::geometry {
+
+namespace {
+
+// The kernel as a cubic in q = a^2.
+Monomials<3> kernelInSquaredRadius(BlobKernel kernel) {
+    if (kernel == BlobKernel::Poly6) return {1.0, -3.0, 3.0, -1.0};  // (1 - q)^3
+    return {1.0, -22.0 / 9.0, 17.0 / 9.0, -4.0 / 9.0};             // Wyvill's soft object
+}
+
+// One part: an octant of the cell that may hold surface, with the blobs
+// that reach it (contiguous, read in order by every ray through it).
+struct BlobPart {
+    Box3 box;  ///< in the leaf's frame
+    uint32_t first = 0, count = 0;
+};
+
+class BlobCellTracer final : public CellTracer {
+public:
+    BlobCellTracer(const BlobbyField& field, const LeafPlacement& placement, std::vector<BlobPart> parts,
+                   std::vector<Blob> blobs)
+        : kernel_(kernelInSquaredRadius(field.kernel)),
+          threshold_(field.threshold),
+          field_(field),
+          placement_(placement),
+          parts_(std::move(parts)),
+          blobs_(std::move(blobs)) {}
+
+    CellTraceResult trace(uint32_t index, const Vec3& origin, const Vec3& direction, double t0, double t1,
+                          const TraceSettings& settings) const override {
+        const BlobPart& part = parts_[index];
+        const Vec3 o = placement_.leafFromWorld(origin);
+        const Vec3 d = placement_.identity ? direction : Vec3(placement_.linear * direction);
+        if (!placement_.identity && !clipRayToBox(part.box, o, d, t0, t1)) return {};
+        CellTraceResult r;
+        if (!(t1 > t0)) return r;
+        thread_local SegmentPolynomialSum<6> sum;  // grows once per thread, then reused
+        sum.clear();
+        sum.addConstant(threshold_);
+        const Vec3 p0 = o + t0 * d, D = (t1 - t0) * d;
+        const double DD = D.squaredNorm();
+        for (uint32_t i = part.first; i < part.first + part.count; ++i) {
+            const Blob& b = blobs_[i];
+            // a^2 along the segment: (|r0|^2 + 2 u r0.D + u^2 DD) / R^2.
+            const Vec3 r0 = p0 - b.center;
+            const double R2 = b.radius * b.radius, r0D = r0.dot(D);
+            const double disc = r0D * r0D + DD * (R2 - r0.squaredNorm());
+            if (!(disc > 0.0)) continue;
+            const double root = std::sqrt(disc), enter = (-r0D - root) / DD, leave = (-r0D + root) / DD;
+            if (!(leave > 0.0 && enter < 1.0)) continue;
+            ++r.evaluations;
+            Monomials<6> term = composeWithQuadratic<3>(kernel_, r0.squaredNorm() / R2, 2.0 * r0D / R2, DD / R2);
+            for (double& c : term) c *= -b.weight;
+            sum.add(term, enter, leave);
+        }
+        const auto found = sum.firstRoot(settings.epsilon / direction.norm() / (t1 - t0));
+        r.steps = found.pieces;
+        if (!found.found) return r;
+        r.hit = true;
+        r.t = t0 + found.u * (t1 - t0);
+        // The gradient from the part's blobs (all that reach the hit).
+        const Vec3 p = o + r.t * d;
+        Vec3 gradient = Vec3::Zero();
+        for (uint32_t i = part.first; i < part.first + part.count; ++i) {
+            const Blob& b = blobs_[i];
+            const Vec3 offset = p - b.center;
+            const double distance = offset.norm();
+            if (distance > 0) gradient -= (b.weight * field_.kernelSlope(distance / b.radius) / (b.radius * distance)) * offset;
+        }
+        r.gradientKnown = true;
+        r.gradient = placement_.valueScale *
+                     (placement_.identity ? gradient : Vec3(placement_.linear.transpose() * gradient));
+        return r;
+    }
+
+private:
+    Monomials<3> kernel_;
+    double threshold_;
+    BlobbyField field_;  ///< the kernel's settings (its blobs live in the parts)
+    LeafPlacement placement_;
+    std::vector<BlobPart> parts_;
+    std::vector<Blob> blobs_;
+};
+
+}  // namespace
+
+std::optional<CellAcceleration> BlobCellAccelerator::accelerate(const FieldProgram& program, const Box3& box,
+                                                                double) const {
+    const FieldLeaf* leaf = program.singleLeaf();
+    const auto* blobby = leaf ? std::get_if<BlobbyField>(&leaf->shape) : nullptr;
+    if (!blobby || (blobby->kernel != BlobKernel::Poly6 && blobby->kernel != BlobKernel::SoftObject))
+        return std::nullopt;
+    const LeafPlacement& placement = leaf->placement;
+    const Box3 leafBox = placement.identity ? box : transformBox(placement.linear, placement.offset, box);
+    // One halving: octants the interval range proves empty drop out, and a
+    // ray through an octant pays only for the blobs that reach it.
+    std::vector<BlobPart> parts;
+    std::vector<Blob> blobs;
+    for (int k = 0; k < 8; ++k) {
+        const Box3 octant = leafBox.octant(k);
+        const BlobbyField near = blobby->prunedTo(octant);
+        if (!near.range(octant).containsZero()) continue;
+        parts.push_back({octant, uint32_t(blobs.size()), uint32_t(near.blobs.size())});
+        blobs.insert(blobs.end(), near.blobs.begin(), near.blobs.end());
+    }
+    CellAcceleration a;
+    const Mat3 worldFromLeaf = placement.identity ? Mat3::Identity() : Mat3(placement.linear.inverse());
+    for (const BlobPart& part : parts) {
+        if (placement.identity) {
+            a.parts.push_back(part.box);
+        } else {
+            const Box3 around = transformBox(worldFromLeaf, -(worldFromLeaf * placement.offset), part.box);
+            a.parts.emplace_back(around.lower.cwiseMax(box.lower), around.upper.cwiseMin(box.upper));
+        }
+    }
+    BlobbyField settings = *blobby;
+    settings.blobs.clear();
+    a.tracer = std::make_unique<BlobCellTracer>(settings, placement, std::move(parts), std::move(blobs));
+    return a;
+}
+
+}  // namespace isotrace::geometry

@@ -1,0 +1,61 @@
+// A surface traced through its cell accelerators (local models, exact
+// polynomial roots) against the same field marched by the general sphere
+// tracer: both must agree on every ray, primary and leaving the surface as
+// bounces and shadow rays do, on hit or miss, distance and normal.
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "geometry/tracing/implicit_surface.h"
+#include "support/embree_scene.h"
+#include "support/random_rays.h"
+
+namespace isotrace::testing {
+
+inline void expectSameHitsAsMarching(const geometry::FieldProgram& program, int rays, int minimumHits,
+                                     int minimumSecondaryHits, double minimumNormalCosine = 0.999) {
+    using geometry::Vec3;
+    geometry::ImplicitSurfaceOptions exactOptions;
+    exactOptions.cellAccelerators.clear();
+    geometry::ImplicitSurface fast(program), exact(program, exactOptions);
+    ASSERT_GT(fast.acceleratedCellCount(), 0u);
+    ASSERT_EQ(exact.acceleratedCellCount(), 0u);
+    EmbreeScene fastScene, exactScene;
+    fastScene.attach(fast);
+    exactScene.attach(exact);
+    fastScene.commit();
+    exactScene.commit();
+    const double size = fast.bounds().extent().norm();
+    std::mt19937 rng(11);
+    std::normal_distribution<double> n;
+    int hits = 0, secondaryHits = 0;
+    for (int i = 0; i < rays; ++i) {
+        const auto ray = randomRayAt(fast.bounds(), rng);
+        const auto a = fastScene.intersect(ray.origin, ray.direction), b = exactScene.intersect(ray.origin, ray.direction);
+        ASSERT_EQ(a.hit, b.hit) << "ray " << i;
+        if (!a.hit) continue;
+        ++hits;
+        ASSERT_NEAR(a.t, b.t, 1e-5 * size) << "ray " << i;
+        // Normals come from the exact gradient at (or within resolution of) the hit.
+        EXPECT_GT(a.normal.normalized().dot(b.normal.normalized()), minimumNormalCosine) << "ray " << i;
+        // A ray leaving the surface into the outer hemisphere.
+        const Vec3 p = ray.origin + double(a.t) * ray.direction, normal = b.normal.normalized();
+        Vec3 d = Vec3(n(rng), n(rng), n(rng)).normalized();
+        if (d.dot(normal) < 0) d = -d;
+        const Vec3 o = (p + 1e-4 * size * normal).cast<float>().cast<double>();
+        d = d.cast<float>().cast<double>();
+        const auto c = fastScene.intersect(o, d), e = exactScene.intersect(o, d);
+        ASSERT_EQ(c.hit, e.hit) << "secondary ray " << i;
+        EXPECT_EQ(fastScene.occluded(o, d, 1e30), exactScene.occluded(o, d, 1e30)) << "secondary ray " << i;
+        if (c.hit) {
+            ++secondaryHits;
+            ASSERT_NEAR(c.t, e.t, 1e-5 * size) << "secondary ray " << i;
+        }
+    }
+    EXPECT_GE(hits, minimumHits);
+    EXPECT_GE(secondaryHits, minimumSecondaryHits);
+}
+
+}  // namespace isotrace::testing
