@@ -256,6 +256,15 @@ Interval FieldProgram::range(const Box3& box) const {
     return slots.back().range;
 }
 
+bool FieldProgram::canPrune() const {
+    for (const FieldInstruction& in : code_)
+        if (in.op == FieldOp::Min || in.op == FieldOp::Max || in.op == FieldOp::SmoothMin || in.op == FieldOp::SmoothMax)
+            return true;
+    for (const FieldLeaf& leaf : leaves_)
+        if (std::visit([&](const auto& s) { return requires { s.prunedTo(Box3()); }; }, leaf.shape)) return true;
+    return false;
+}
+
 FieldProgram FieldProgram::prunedTo(const Box3& box) const {
     // Operands are dropped by their ranges alone; a program without binary
     // operations (one blob sum, say) has none to drop and skips even those.

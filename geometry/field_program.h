@@ -100,6 +100,9 @@ public:
     /// blends whose operands are farther apart than the blend radius, blobs
     /// whose support does not reach the box).
     FieldProgram prunedTo(const Box3& box) const;
+    /// False when prunedTo can only copy the program: no CSG or blend
+    /// operands to drop and no leaf with terms of its own (blobs, segments).
+    bool canPrune() const;
 
     const Box3& bounds() const { return bounds_; }
     bool empty() const { return code_.empty(); }

@@ -7,6 +7,7 @@
 #include <memory>
 #include <optional>
 #include <stdexcept>
+#include <unordered_map>
 
 #include <tbb/parallel_for.h>
 
@@ -54,8 +55,11 @@ RefinedLevel refineCells(const Box3& root, const FieldProgram& field, const Impl
             for (int k = 0; k < 8; ++k) {
                 const Box3 child = level.boxes[i].octant(k);
                 if (!program.range(child).containsZero()) continue;
-                children[i][k] = options.pruneCells ? std::make_shared<FieldProgram>(program.prunedTo(child))
-                                                    : level.programs[i];
+                // A program with nothing to prune (one primitive) is shared,
+                // not copied: copies were most of a small scene's start-up.
+                children[i][k] = options.pruneCells && program.canPrune()
+                                     ? std::make_shared<FieldProgram>(program.prunedTo(child))
+                                     : level.programs[i];
             }
         });
         RefinedLevel next;
@@ -133,18 +137,15 @@ ImplicitSurface::ImplicitSurface(FieldProgram field, const ImplicitSurfaceOption
     struct Built {
         bool keep = false;
         SurfaceCell cell;
-        FieldProgram program;
         std::optional<CellAcceleration> acceleration;
     };
     std::vector<Built> built(level.boxes.size());
     tbb::parallel_for(size_t(0), level.boxes.size(), [&](size_t i) {
         Built& b = built[i];
-        // A pruned program is the cell's alone: moved, not copied.
-        if (level.programs[i].use_count() == 1) b.program = std::move(*level.programs[i]);
-        else b.program = *level.programs[i];
+        const FieldProgram& program = *level.programs[i];
         Box3 box = level.boxes[i];
         for (const auto& accelerator : options.cellAccelerators) {
-            b.acceleration = accelerator->accelerate(b.program, box, diagonal);
+            b.acceleration = accelerator->accelerate(program, box, diagonal);
             if (b.acceleration) break;
         }
         if (b.acceleration) {
@@ -153,17 +154,25 @@ ImplicitSurface::ImplicitSurface(FieldProgram field, const ImplicitSurfaceOption
             // are O(N) for a variational field, and made the hand slower.
             if (b.acceleration->parts.empty()) return;
         } else {
-            box = shrunkToSurface(b.program, box);
+            box = shrunkToSurface(program, box);
             if (box.isEmpty()) return;
         }
         b.keep = true;
         b.cell.box = box;
-        b.cell.lipschitz = options.globalLipschitzOnly ? globalLipschitz_ : b.program.estimate(box).lipschitz;
+        b.cell.lipschitz = options.globalLipschitzOnly ? globalLipschitz_ : program.estimate(box).lipschitz;
     });
-    for (Built& b : built) {
+    // Cells that share a program (nothing to prune) keep one copy of it.
+    std::unordered_map<const FieldProgram*, uint32_t> programIndex;
+    for (size_t i = 0; i < built.size(); ++i) {
+        Built& b = built[i];
         if (!b.keep) continue;
-        b.cell.program = static_cast<uint32_t>(programs_.size());
-        programs_.push_back(std::move(b.program));
+        const auto [it, added] = programIndex.emplace(level.programs[i].get(), uint32_t(programs_.size()));
+        if (added) {
+            // A program the cell holds alone is moved, not copied.
+            if (level.programs[i].use_count() == 1) programs_.push_back(std::move(*level.programs[i]));
+            else programs_.push_back(*level.programs[i]);
+        }
+        b.cell.program = it->second;
         if (!b.acceleration) {
             cells_.push_back(b.cell);
             continue;
