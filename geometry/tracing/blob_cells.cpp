@@ -36,8 +36,8 @@ public:
     CellTraceResult trace(uint32_t index, const Vec3& origin, const Vec3& direction, double t0, double t1,
                           const TraceSettings& settings) const override {
         const BlobPart& part = parts_[index];
-        const Vec3 o = placement_.leafFromWorld(origin);
-        const Vec3 d = placement_.identity ? direction : Vec3(placement_.linear * direction);
+        Vec3 o, d;
+        rayInLeafFrame(placement_, origin, direction, o, d);
         if (!placement_.identity && !clipRayToBox(part.box, o, d, t0, t1)) return {};
         CellTraceResult r;
         if (!(t1 > t0)) return r;
@@ -75,8 +75,7 @@ public:
             if (distance > 0) gradient -= (b.weight * field_.kernelSlope(distance / b.radius) / (b.radius * distance)) * offset;
         }
         r.gradientKnown = true;
-        r.gradient = placement_.valueScale *
-                     (placement_.identity ? gradient : Vec3(placement_.linear.transpose() * gradient));
+        r.gradient = worldGradient(placement_, gradient);
         return r;
     }
 
@@ -111,15 +110,9 @@ std::optional<CellAcceleration> BlobCellAccelerator::accelerate(const FieldProgr
         blobs.insert(blobs.end(), near.blobs.begin(), near.blobs.end());
     }
     CellAcceleration a;
-    const Mat3 worldFromLeaf = placement.identity ? Mat3::Identity() : Mat3(placement.linear.inverse());
-    for (const BlobPart& part : parts) {
-        if (placement.identity) {
-            a.parts.push_back(part.box);
-        } else {
-            const Box3 around = transformBox(worldFromLeaf, -(worldFromLeaf * placement.offset), part.box);
-            a.parts.emplace_back(around.lower.cwiseMax(box.lower), around.upper.cwiseMin(box.upper));
-        }
-    }
+    std::vector<Box3> boxes;
+    for (const BlobPart& part : parts) boxes.push_back(part.box);
+    a.parts = worldPartBoxes(placement, boxes, box);
     BlobbyField settings = *blobby;
     settings.blobs.clear();
     a.tracer = std::make_unique<BlobCellTracer>(settings, placement, std::move(parts), std::move(blobs));

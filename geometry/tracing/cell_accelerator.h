@@ -39,6 +39,36 @@ struct CellAcceleration {
     std::vector<Box3> parts;  ///< world boxes within the cell, indexed as trace()'s `part`
 };
 
+// Accelerators work in their leaf's frame (an affine map keeps a ray's t):
+// these carry rays, gradients and part boxes between it and the world.
+
+/// The ray's origin and direction in the leaf's frame.
+inline void rayInLeafFrame(const LeafPlacement& placement, const Vec3& origin, const Vec3& direction, Vec3& leafOrigin,
+                           Vec3& leafDirection) {
+    leafOrigin = placement.leafFromWorld(origin);
+    leafDirection = placement.identity ? direction : Vec3(placement.linear * direction);
+}
+
+/// The world gradient of valueScale f(A x + b): valueScale A^T grad f.
+inline Vec3 worldGradient(const LeafPlacement& placement, const Vec3& leafGradient) {
+    return placement.valueScale * (placement.identity ? leafGradient : Vec3(placement.linear.transpose() * leafGradient));
+}
+
+/// The world boxes, within the octree cell `cell`, around parts given in
+/// the leaf's frame.
+inline std::vector<Box3> worldPartBoxes(const LeafPlacement& placement, const std::vector<Box3>& leafParts,
+                                        const Box3& cell) {
+    if (placement.identity) return leafParts;
+    const Mat3 worldFromLeaf = placement.linear.inverse();
+    std::vector<Box3> boxes;
+    boxes.reserve(leafParts.size());
+    for (const Box3& part : leafParts) {
+        const Box3 around = transformBox(worldFromLeaf, -(worldFromLeaf * placement.offset), part);
+        boxes.emplace_back(around.lower.cwiseMax(cell.lower), around.upper.cwiseMin(cell.upper));
+    }
+    return boxes;
+}
+
 class CellAccelerator {
 public:
     virtual ~CellAccelerator() = default;

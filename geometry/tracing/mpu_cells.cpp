@@ -121,9 +121,8 @@ public:
     CellTraceResult trace(uint32_t index, const Vec3& origin, const Vec3& direction, double t0, double t1,
                           const TraceSettings& settings) const override {
         const MpuPart& part = parts_[index];
-        // Trace in the leaf's frame: an affine map keeps the ray's t.
-        const Vec3 o = placement_.leafFromWorld(origin);
-        const Vec3 d = placement_.identity ? direction : Vec3(placement_.linear * direction);
+        Vec3 o, d;
+        rayInLeafFrame(placement_, origin, direction, o, d);
         if (!placement_.identity && !clipRayToBox(part.box, o, d, t0, t1)) return {};
         // Where the ray is within the band of the plane: |alpha + beta t| <= band.
         const double alpha = part.value + part.gradient.dot(o - part.center), beta = part.gradient.dot(d);
@@ -148,10 +147,8 @@ public:
         r.t = root.t;
         Vec3 gradient;
         field_->valueAndGradient(o + root.t * d, gradient, locals);
-        // grad of valueScale f(A x + b) is valueScale A^T grad f.
         r.gradientKnown = true;
-        r.gradient = placement_.valueScale *
-                     (placement_.identity ? gradient : Vec3(placement_.linear.transpose() * gradient));
+        r.gradient = worldGradient(placement_, gradient);
         return r;
     }
 
@@ -199,15 +196,9 @@ std::optional<CellAcceleration> MpuCellAccelerator::accelerate(const FieldProgra
     carve(carve, leafBox, 0);
 
     CellAcceleration a;
-    const Mat3 worldFromLeaf = placement.identity ? Mat3::Identity() : Mat3(placement.linear.inverse());
-    for (const MpuPart& part : parts) {
-        if (placement.identity) {
-            a.parts.push_back(part.box);
-        } else {
-            const Box3 around = transformBox(worldFromLeaf, -(worldFromLeaf * placement.offset), part.box);
-            a.parts.emplace_back(around.lower.cwiseMax(box.lower), around.upper.cwiseMin(box.upper));
-        }
-    }
+    std::vector<Box3> boxes;
+    for (const MpuPart& part : parts) boxes.push_back(part.box);
+    a.parts = worldPartBoxes(placement, boxes, box);
     a.tracer = std::make_unique<MpuCellTracer>(mpu->field, placement, std::move(parts), std::move(locals));
     return a;
 }

@@ -16,9 +16,8 @@ public:
     CellTraceResult trace(uint32_t part, const Vec3& origin, const Vec3& direction, double t0, double t1,
                           const TraceSettings& settings) const override {
         const VariationalPatch& model = models_[part];
-        // Trace in the leaf's frame: an affine map keeps the ray's t.
-        const Vec3 o = placement_.leafFromWorld(origin);
-        const Vec3 d = placement_.identity ? direction : Vec3(placement_.linear * direction);
+        Vec3 o, d;
+        rayInLeafFrame(placement_, origin, direction, o, d);
         // The model holds inside its own box only.
         if (!placement_.identity && !clipRayToBox(model.box, o, d, t0, t1)) return {};
         const PatchTraceResult p = tracePatch(model, *field_, o, d, t0, t1, settings.epsilon / direction.norm());
@@ -33,10 +32,8 @@ public:
             return r;
         }
         r.hit = p.hit;
-        // grad of valueScale f(A x + b) is valueScale A^T grad f.
         r.gradientKnown = p.hit;
-        r.gradient = placement_.valueScale *
-                     (placement_.identity ? p.gradient : Vec3(placement_.linear.transpose() * p.gradient));
+        r.gradient = worldGradient(placement_, p.gradient);
         return r;
     }
 
@@ -60,16 +57,9 @@ std::optional<CellAcceleration> VariationalCellAccelerator::accelerate(const Fie
         buildSurfaceModels(*variational->field, leafBox, relativeTolerance_ * surfaceDiagonal / placement.valueScale);
     if (!models) return std::nullopt;
     CellAcceleration a;
-    const Mat3 worldFromLeaf = placement.identity ? Mat3::Identity() : Mat3(placement.linear.inverse());
-    for (const VariationalPatch& model : *models) {
-        if (placement.identity) {
-            a.parts.push_back(model.box);
-        } else {
-            // The world box around the model's box, within the octree cell.
-            const Box3 around = transformBox(worldFromLeaf, -(worldFromLeaf * placement.offset), model.box);
-            a.parts.emplace_back(around.lower.cwiseMax(box.lower), around.upper.cwiseMin(box.upper));
-        }
-    }
+    std::vector<Box3> boxes;
+    for (const VariationalPatch& model : *models) boxes.push_back(model.box);
+    a.parts = worldPartBoxes(placement, boxes, box);
     a.tracer = std::make_unique<VariationalCellTracer>(std::move(*models), variational->field, placement);
     return a;
 }

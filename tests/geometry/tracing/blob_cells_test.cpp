@@ -8,6 +8,7 @@
 
 #include "geometry/fields/blobby.h"
 #include "support/same_hits.h"
+#include "support/turned_placement.h"
 
 using namespace isotrace::geometry;
 
@@ -34,13 +35,7 @@ TEST(BlobCells, Poly6ClusterAgreesWithMarching) {
 }
 
 TEST(BlobCells, TransformedSoftObjectsAgreeWithMarching) {
-    LeafPlacement placement;
-    const Mat3 rotation = Eigen::AngleAxisd(0.6, Vec3(1, 2, 3).normalized()).toRotationMatrix();
-    placement.linear = 0.5 * rotation.transpose();
-    placement.offset = Vec3(0.3, -0.2, 0.1);
-    placement.valueScale = 1.0;
-    placement.gradientScale = 0.5;
-    placement.identity = false;
+    const LeafPlacement placement = isotrace::testing::turnedPlacement(0.6, Vec3(0.3, -0.2, 0.1), 1.0);
     FieldProgram program;
     program.addLeaf(cluster(BlobKernel::SoftObject, 60, 5), placement);
     isotrace::testing::expectSameHitsAsMarching(program, 1500, 150, 30);

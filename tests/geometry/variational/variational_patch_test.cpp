@@ -14,6 +14,7 @@
 #include "geometry/variational/variational_patch.h"
 #include "support/embree_scene.h"
 #include "support/same_hits.h"
+#include "support/turned_placement.h"
 #include "support/random_rays.h"
 
 using namespace isotrace::geometry;
@@ -139,13 +140,7 @@ TEST(VariationalPatchTracing, HandAgreesWithExactMarching) {
 TEST(VariationalPatchTracing, TransformedHandAgreesWithExactMarching) {
     // Twice the size, turned about a slanted axis: rays are traced in the
     // leaf's frame, gradients brought back.
-    LeafPlacement placement;
-    const Mat3 rotation = Eigen::AngleAxisd(0.7, Vec3(1, 2, 3).normalized()).toRotationMatrix();
-    placement.linear = 0.5 * rotation.transpose();
-    placement.offset = Vec3(0.1, -0.2, 0.3);
-    placement.valueScale = 2.0;
-    placement.gradientScale = 1.0;
-    placement.identity = false;
+    const LeafPlacement placement = isotrace::testing::turnedPlacement(0.7, Vec3(0.1, -0.2, 0.3), 2.0);
     FieldProgram program;
     program.addLeaf(VariationalLeafField{std::make_shared<VariationalField>(handField())}, placement);
     expectSameHits(program, 100);
