@@ -70,11 +70,9 @@ int runMpuFit(const FitCommand& c, const Json& description, geometry::Variationa
         throw commandLineError(e, c.input, std::filesystem::absolute(c.input).string());
     }
     geometry::MpuReport report;
-    const geometry::MpuField field = geometry::fitMpuSource(source, geometry::JsonObjectReader(description, "", c.input), report,
-                                                            [&](const std::string& message) {
-                                                                std::fprintf(stderr, "warning: %s: %s\n", c.input.c_str(),
-                                                                             message.c_str());
-                                                            });
+    const geometry::MpuField field =
+        geometry::fitMpuSource(source, geometry::JsonObjectReader(description, "", c.input), report,
+                               [&](const std::string& message) { context.warn("", "", message); });
     Json provenance = source.provenance;
     provenance[points ? "points" : "mesh"]["file"] = c.input;
     writeFit(c.output, geometry::mpuFieldToJson(field, report, provenance, source.hash).dump() + "\n");
