@@ -12,7 +12,7 @@ constexpr const char* kFormatKey = "isotrace_mpu_fit";
 constexpr int kFormatVersion = 1;
 // Part of the cache key: bump when the fit's result changes for the same
 // points and options, so stale cache entries are not reused.
-constexpr const char* kFitRevision = "mpu 2 sharp";
+constexpr const char* kFitRevision = "mpu 3 sharp grid";
 
 constexpr std::array<std::pair<MpuCombination, const char*>, 5> kCombinationNames{{
     {MpuCombination::Single, "single"},
