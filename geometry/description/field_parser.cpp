@@ -361,7 +361,9 @@ uint32_t makeVariational(Compiler& c, JsonObjectReader& r, const LeafPlacement& 
     context.references = &c;
     if (c.options().fitCache) context.fits = c.options().fitCache;
     context.warn = c.options().warn;
-    return c.program.addLeaf(VariationalLeafField{variationalFieldFromDescription(r, context)}, p);
+    VariationalFit fit = variationalFitFromDescription(r, context);
+    if (fit.partition) return c.program.addLeaf(MpuLeafField{std::move(fit.partition)}, p);
+    return c.program.addLeaf(VariationalLeafField{std::move(fit.dense)}, p);
 }
 
 // ---- multi-level partition of unity implicits (Ohtake et al.) -------------

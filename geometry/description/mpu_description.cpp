@@ -1,6 +1,8 @@
 #include "geometry/description/mpu_description.h"
 
 #include <array>
+#include <cstring>
+#include <map>
 
 #include "geometry/content_hash.h"
 
@@ -8,18 +10,19 @@ namespace isotrace::geometry {
 
 namespace {
 
-constexpr const char* kFormatKey = "isotrace_mpu_fit";
+constexpr const char* kFormatKey = kMpuFitFormatKey;
 constexpr int kFormatVersion = 1;
 // Part of the cache key: bump when the fit's result changes for the same
 // points and options, so stale cache entries are not reused.
 constexpr const char* kFitRevision = "mpu 3 sharp grid";
 
-constexpr std::array<std::pair<MpuCombination, const char*>, 5> kCombinationNames{{
+constexpr std::array<std::pair<MpuCombination, const char*>, 6> kCombinationNames{{
     {MpuCombination::Single, "single"},
     {MpuCombination::Max, "max"},
     {MpuCombination::Min, "min"},
     {MpuCombination::MaxOfMin, "max_of_min"},
     {MpuCombination::MinOfMax, "min_of_max"},
+    {MpuCombination::Interpolant, "interpolant"},
 }};
 
 // The options as the fit uses them, field by field (hashing the struct's
@@ -102,6 +105,48 @@ std::shared_ptr<const MpuField> mpuFieldFromDescription(JsonObjectReader& r, Var
     return field;
 }
 
+MpuReport partitionSummary(const PartitionReport& report) {
+    MpuReport summary;
+    summary.localFunctions = report.locals;
+    summary.depth = report.depth;
+    summary.maxError = report.maxResidual;
+    summary.seconds = report.seconds;
+    return summary;
+}
+
+namespace {
+
+// Vectors as one flat array [x0, y0, z0, x1, ...].
+Json flat(const std::vector<Vec3>& vectors) {
+    std::vector<double> out;
+    out.reserve(3 * vectors.size());
+    for (const Vec3& v : vectors) out.insert(out.end(), {v.x(), v.y(), v.z()});
+    return out;
+}
+
+// Interpolants share their centres (each constraint is in about a dozen
+// balls): the saved form lists each position once and refers to it by index.
+class PositionTable {
+public:
+    uint32_t indexOf(const Vec3& p) {
+        const auto [it, added] = index_.try_emplace(key(p), uint32_t(positions_.size()));
+        if (added) positions_.push_back(p);
+        return it->second;
+    }
+    const std::vector<Vec3>& positions() const { return positions_; }
+
+private:
+    static std::array<uint64_t, 3> key(const Vec3& p) {
+        std::array<uint64_t, 3> k;
+        std::memcpy(k.data(), p.data(), sizeof k);
+        return k;
+    }
+    std::map<std::array<uint64_t, 3>, uint32_t> index_;
+    std::vector<Vec3> positions_;
+};
+
+}  // namespace
+
 Json mpuFieldToJson(const MpuField& field, const MpuReport& report, const Json& provenance, const std::string& hash) {
     Json locals = Json::array(), pieces = Json::array();
     for (const MpuLocal& l : field.locals()) {
@@ -113,7 +158,7 @@ Json mpuFieldToJson(const MpuField& field, const MpuReport& report, const Json& 
     for (const MpuQuadric& q : field.pieces())
         pieces.push_back({q.origin.x(), q.origin.y(), q.origin.z(), q.A(0, 0), q.A(0, 1), q.A(0, 2), q.A(1, 1), q.A(1, 2),
                           q.A(2, 2), q.g.x(), q.g.y(), q.g.z(), q.c0});
-    return {{kFormatKey, kFormatVersion},
+    Json out = {{kFormatKey, kFormatVersion},
             {"source", provenance},
             {"source_hash", hash},
             {"fit",
@@ -129,6 +174,25 @@ Json mpuFieldToJson(const MpuField& field, const MpuReport& report, const Json& 
             {"background_margin", field.backgroundMargin()},
             {"locals", locals},
             {"pieces", pieces}};
+    if (field.hasInterpolants()) {
+        Json interpolants = Json::array();
+        PositionTable table;
+        auto indices = [&](const std::vector<Vec3>& centers) {
+            std::vector<uint32_t> out;
+            for (const Vec3& c : centers) out.push_back(table.indexOf(c));
+            return out;
+        };
+        for (const VariationalField& f : field.interpolants())
+            interpolants.push_back({{"constant", f.constant},
+                                    {"linear", vec3Json(f.linear)},
+                                    {"centers", indices(f.centers)},
+                                    {"weights", f.weights},
+                                    {"gradient_centers", indices(f.gradientCenters)},
+                                    {"gradient_weights", flat(f.gradientWeights)}});
+        out["positions"] = flat(table.positions());
+        out["interpolants"] = std::move(interpolants);
+    }
+    return out;
 }
 
 MpuField mpuFieldFromJson(const Json& json, const std::string& file) {
@@ -168,7 +232,7 @@ MpuField mpuFieldFromJson(const Json& json, const std::string& file) {
         if (row[6].is_string())
             for (const auto& [c, n] : kCombinationNames)
                 if (row[6].get<std::string>() == n) l.combination = c, known = true;
-        if (!known) throw InputError(file, at + "/6", "expected single, max, min, max_of_min or min_of_max");
+        if (!known) throw InputError(file, at + "/6", "expected single, max, min, max_of_min, min_of_max or interpolant");
         locals.push_back(l);
     });
     std::vector<MpuQuadric> pieces;
@@ -182,9 +246,52 @@ MpuField mpuFieldFromJson(const Json& json, const std::string& file) {
         q.c0 = v[12];
         pieces.push_back(q);
     });
+    std::vector<VariationalField> interpolants;
+    std::vector<Vec3> positions;
+    if (r.has("positions")) {
+        const std::vector<double> v = r.numbers("positions");
+        if (v.size() % 3 != 0) r.fail("positions", "expected a flat array of [x, y, z] triples");
+        for (size_t k = 0; k + 2 < v.size(); k += 3) positions.emplace_back(v[k], v[k + 1], v[k + 2]);
+    }
+    if (const Json* list = r.optionalValue("interpolants")) {
+        const std::string pointer = r.pointerOf("interpolants");
+        if (!list->is_array()) throw InputError(file, pointer, "expected an array of interpolants");
+        for (size_t i = 0; i < list->size(); ++i) {
+            JsonObjectReader f((*list)[i], jsonPointerAppend(pointer, i), file);
+            VariationalField field;
+            field.constant = f.number("constant");
+            field.linear = f.vec3("linear");
+            auto positionsAt = [&](const char* key) {
+                const Json& a = f.value(key);
+                if (!a.is_array()) f.fail(key, "expected an array of indices into \"positions\"");
+                std::vector<Vec3> out;
+                out.reserve(a.size());
+                for (size_t k = 0; k < a.size(); ++k) {
+                    if (!a[k].is_number_unsigned() || a[k].get<uint64_t>() >= positions.size())
+                        throw InputError(file, jsonPointerAppend(f.pointerOf(key), k),
+                                         "expected an index into \"positions\" (" + std::to_string(positions.size()) +
+                                             " of them)");
+                    out.push_back(positions[a[k].get<uint64_t>()]);
+                }
+                return out;
+            };
+            field.centers = positionsAt("centers");
+            field.weights = f.numbers("weights");
+            field.gradientCenters = positionsAt("gradient_centers");
+            const std::vector<double> g = f.numbers("gradient_weights");
+            if (g.size() % 3 != 0) f.fail("gradient_weights", "expected a flat array of [x, y, z] triples");
+            for (size_t k = 0; k + 2 < g.size(); k += 3) field.gradientWeights.emplace_back(g[k], g[k + 1], g[k + 2]);
+            if (field.weights.size() != field.centers.size()) f.fail("weights", "one weight per center expected");
+            if (field.gradientWeights.size() != field.gradientCenters.size())
+                f.fail("gradient_weights", "one weight vector per gradient center expected");
+            f.finish();
+            interpolants.push_back(std::move(field));
+        }
+    }
     r.finish();
     try {
-        return MpuField::fromParts(domain, support, backgroundMargin, std::move(locals), std::move(pieces));
+        return MpuField::fromParts(domain, support, backgroundMargin, std::move(locals), std::move(pieces),
+                                   std::move(interpolants));
     } catch (const std::invalid_argument& e) {
         throw InputError(file, "", e.what());
     }

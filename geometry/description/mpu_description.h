@@ -8,8 +8,12 @@
 
 #include "geometry/description/variational_description.h"
 #include "geometry/pointsets/mpu_field.h"
+#include "geometry/pointsets/variational_partition.h"
 
 namespace isotrace::geometry {
+
+/// The key that marks a saved MPU fit (partitioned variational fits too).
+inline constexpr const char* kMpuFitFormatKey = "isotrace_mpu_fit";
 
 /// Oriented points and fit options read from a description.
 struct MpuSource {
@@ -35,6 +39,10 @@ std::shared_ptr<const MpuField> mpuFieldFromDescription(JsonObjectReader& r, Var
 
 /// The saved form of a fit: every number round-trips exactly, so a loaded
 /// field evaluates bit-identically to the fitted one.
+/// A partitioned variational fit's report in the saved MPU form's terms
+/// (local functions, depth, max error = the largest residual, seconds).
+MpuReport partitionSummary(const PartitionReport& report);
+
 Json mpuFieldToJson(const MpuField& field, const MpuReport& report, const Json& provenance, const std::string& hash);
 /// Reads the saved form; malformed content throws InputError naming `file`
 /// and the place in it.

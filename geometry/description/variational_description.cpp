@@ -6,8 +6,10 @@
 #include <unistd.h>
 
 #include "geometry/content_hash.h"
+#include "geometry/description/mpu_description.h"
 #include "geometry/mesh_file.h"
 #include "geometry/particles/surface_particles.h"
+#include "geometry/pointsets/variational_partition.h"
 
 namespace isotrace::geometry {
 
@@ -18,6 +20,8 @@ constexpr int kFormatVersion = 1;
 // Part of the cache key: bump when the fit's result changes for the same
 // input (solver, domain choice), so stale cache entries are not reused.
 constexpr const char* kFitRevision = "r3-qr-llt-2";
+// The same for partitioned fits (combined with the constraints' hash).
+constexpr const char* kPartitionRevision = "partition-1";
 
 // An array of rows of `width` finite numbers.
 std::vector<std::vector<double>> rows(JsonObjectReader& r, const std::string& key, size_t width, const char* shape) {
@@ -169,6 +173,13 @@ VariationalSource readVariationalSource(JsonObjectReader& r, VariationalContext&
     c.values.insert(c.values.end(), explicitRows.values.begin(), explicitRows.values.end());
     c.gradients.insert(c.gradients.end(), explicitRows.gradients.begin(), explicitRows.gradients.end());
     source.options.domainMargin = r.has("margin") ? r.positiveNumber("margin") : source.options.domainMargin;
+    if (r.has("solver")) {
+        const std::string solver = r.string("solver");
+        if (solver == "auto") source.solver = VariationalSolver::Automatic;
+        else if (solver == "dense") source.solver = VariationalSolver::Dense;
+        else if (solver == "partition") source.solver = VariationalSolver::Partition;
+        else r.fail("solver", "unknown solver \"" + solver + "\" (expected \"auto\", \"dense\" or \"partition\")");
+    }
 
     // Blending (Turk and O'Brien 2002, section 6): each operand keeps the
     // constraints that lie outside every other operand; one more fit joins
@@ -226,6 +237,11 @@ VariationalSource readVariationalSource(JsonObjectReader& r, VariationalContext&
     provenance["hermite"] = hermite;
     source.provenance = provenance;
     source.hash = constraintHash(c, source.options);
+    if (source.partitioned()) {
+        source.hash = hexDigest(fnv1a64(kPartitionRevision, fnv1a64(source.hash)));
+        provenance["solver"] = "partition";
+        source.provenance = provenance;
+    }
     return source;
 }
 
@@ -313,6 +329,11 @@ VariationalField variationalFieldFromJson(const Json& json, const std::string& f
 
 std::shared_ptr<const VariationalField> fitCached(const VariationalSource& source, const JsonObjectReader& r,
                                                   const VariationalContext& context) {
+    if (source.partitioned())
+        throw InputError(r.file(), r.pointer(),
+                         "blend operands are fitted by the dense solver, up to " +
+                             std::to_string(source.options.maxUnknowns) + " unknowns; this one has " +
+                             std::to_string(source.constraints.unknowns()));
     if (std::shared_ptr<const VariationalField> field = context.fits->find(source.hash)) return field;
     FitReport report;
     std::shared_ptr<const VariationalField> field;
@@ -327,20 +348,42 @@ std::shared_ptr<const VariationalField> fitCached(const VariationalSource& sourc
     return field;
 }
 
-std::shared_ptr<const VariationalField> variationalFieldFromDescription(JsonObjectReader& r,
-                                                                         VariationalContext& context) {
+std::shared_ptr<const MpuField> fitPartitionCached(const VariationalSource& source, const JsonObjectReader& r,
+                                                   const VariationalContext& context) {
+    if (std::shared_ptr<const MpuField> field = context.fits->findMpu(source.hash)) return field;
+    PartitionReport report;
+    PartitionOptions options;
+    options.domainMargin = source.options.domainMargin;
+    std::shared_ptr<const MpuField> field;
+    try {
+        field = std::make_shared<const MpuField>(fitPartitionedVariationalField(source.constraints, &report, options));
+    } catch (const FitError& e) {
+        throw InputError(r.file(), r.pointer(), e.what());
+    }
+    if (context.warn)
+        for (const std::string& w : report.warnings) context.warn(r.file(), r.pointer(), w);
+    context.fits->storeMpu(source.hash, field, partitionSummary(report), source.provenance);
+    return field;
+}
+
+VariationalFit variationalFitFromDescription(JsonObjectReader& r, VariationalContext& context) {
     if (r.has("fitted")) {
         const std::string path = resolvedFileName(r.string("fitted"), context.baseDirectory);
         r.finish();  // a misspelt key fails before any file is read
         try {
-            return std::make_shared<const VariationalField>(variationalFieldFromJson(parseJsonFile(path), path));
+            const Json json = parseJsonFile(path);
+            // `isotrace fit` saves partitioned fits in the MPU form.
+            if (json.is_object() && json.contains(kMpuFitFormatKey))
+                return {nullptr, std::make_shared<const MpuField>(mpuFieldFromJson(json, path))};
+            return {std::make_shared<const VariationalField>(variationalFieldFromJson(json, path)), nullptr};
         } catch (const InputError& e) {
             throw InputError(r.file(), r.pointerOf("fitted"), e.what());
         }
     }
     const VariationalSource source = readVariationalSource(r, context);
     r.finish();  // a misspelt key fails before a possibly long fit
-    return fitCached(source, r, context);
+    if (source.partitioned()) return {nullptr, fitPartitionCached(source, r, context)};
+    return {fitCached(source, r, context), nullptr};
 }
 
 }  // namespace isotrace::geometry

@@ -14,12 +14,32 @@
 
 namespace isotrace::geometry {
 
+/// How a description's constraints are fitted: "solver" in scene files.
+enum class VariationalSolver {
+    Automatic,  ///< dense up to FitOptions::maxUnknowns, partitioned beyond
+    Dense,      ///< one global interpolant (rbf_solver.h)
+    Partition,  ///< local interpolants blended (pointsets/variational_partition.h)
+};
+
 /// Constraints read from a description, with what they came from.
 struct VariationalSource {
     ConstraintSet constraints;
     FitOptions options;
+    VariationalSolver solver = VariationalSolver::Automatic;
     Json provenance;       ///< where the constraints came from (files with their hashes, counts)
     std::string hash;      ///< of the constraints and fit options themselves: the cache key
+
+    bool partitioned() const {
+        return solver == VariationalSolver::Partition ||
+               (solver == VariationalSolver::Automatic && constraints.unknowns() > options.maxUnknowns);
+    }
+};
+
+/// A fitted variational field: one global interpolant, or a partition of
+/// local ones (an MpuField whose locals are interpolants).
+struct VariationalFit {
+    std::shared_ptr<const VariationalField> dense;
+    std::shared_ptr<const MpuField> partition;
 };
 
 /// The other fields of the library a description sits in: "sample" compiles
@@ -66,10 +86,14 @@ VariationalSource readVariationalSource(JsonObjectReader& r, VariationalContext&
 std::shared_ptr<const VariationalField> fitCached(const VariationalSource& source, const JsonObjectReader& r,
                                                   const VariationalContext& context);
 
-/// The field of a description: loaded from "fitted", or fitted (and kept
-/// in the context's cache). Fit warnings go to the context's `warn`.
-std::shared_ptr<const VariationalField> variationalFieldFromDescription(JsonObjectReader& r,
-                                                                         VariationalContext& context);
+/// The partitioned fit of a source, likewise cached.
+std::shared_ptr<const MpuField> fitPartitionCached(const VariationalSource& source, const JsonObjectReader& r,
+                                                   const VariationalContext& context);
+
+/// The field of a description: loaded from "fitted" (either saved form), or
+/// fitted by the solver it asks for (and kept in the context's cache). Fit
+/// warnings go to the context's `warn`.
+VariationalFit variationalFitFromDescription(JsonObjectReader& r, VariationalContext& context);
 
 /// The common head of saved fits (variational and MPU): checks the format
 /// key and version, reads past "source", "fit" and "source_hash", and

@@ -102,6 +102,11 @@ double smallerValue(double a, double b) { return std::min(a, b); }
 }  // namespace
 
 double MpuField::evaluate(const Local& l, const Vec3& x, Vec3* gradient) const {
+    if (l.combination == MpuCombination::Interpolant) {
+        const VariationalField& f = interpolants_[l.first];
+        if (!gradient) return f.value(x);
+        return f.valueAndGradient(x, *gradient);
+    }
     const MpuQuadric* q = &pieces_[l.first];
     if (l.combination == MpuCombination::Single) return q[0].evaluate(x, gradient);
     PieceValue v[3]{};
@@ -112,6 +117,7 @@ double MpuField::evaluate(const Local& l, const Vec3& x, Vec3* gradient) const {
 }
 
 Interval MpuField::range(const Local& l, const Box3& box) const {
+    if (l.combination == MpuCombination::Interpolant) return interpolants_[l.first].range(box);
     const MpuQuadric* q = &pieces_[l.first];
     if (l.combination == MpuCombination::Single) return q[0].range(box);
     Interval v[3]{};
@@ -121,6 +127,7 @@ Interval MpuField::range(const Local& l, const Box3& box) const {
 
 // A max or min of pieces is Lipschitz with the largest of their constants.
 double MpuField::gradientBound(const Local& l, const Box3& box) const {
+    if (l.combination == MpuCombination::Interpolant) return interpolants_[l.first].lipschitz(box);
     double bound = 0;
     for (int k = 0; k < l.count; ++k) bound = std::max(bound, pieces_[l.first + k].gradientBound(box));
     return bound;
@@ -480,7 +487,7 @@ MpuField MpuField::fit(const std::vector<MpuPoint>& points, const MpuOptions& op
 }
 
 MpuField MpuField::fromParts(const Box3& domain, double support, double backgroundMargin, std::vector<MpuLocal> locals,
-                             std::vector<MpuQuadric> pieces) {
+                             std::vector<MpuQuadric> pieces, std::vector<VariationalField> interpolants) {
     if (domain.isEmpty() || !domain.isFinite()) throw std::invalid_argument("the domain is empty or not finite");
     if (!(support > 0.5 && support <= 4)) throw std::invalid_argument("the support must lie in (0.5, 4]");
     if (!(backgroundMargin >= 0) || !std::isfinite(backgroundMargin))
@@ -491,6 +498,11 @@ MpuField MpuField::fromParts(const Box3& domain, double support, double backgrou
         const std::string which = "local function " + std::to_string(i);
         if (!l.center.allFinite() || !(l.radius > 0) || !std::isfinite(l.radius))
             throw std::invalid_argument(which + ": its ball is not finite");
+        if (l.combination == MpuCombination::Interpolant) {
+            if (l.count != 1 || l.first >= interpolants.size())
+                throw std::invalid_argument(which + ": its interpolant is out of range");
+            continue;
+        }
         const bool countFits = l.combination == MpuCombination::Single ? l.count == 1
                                : (l.combination == MpuCombination::Max || l.combination == MpuCombination::Min)
                                    ? (l.count == 2 || l.count == 3)
@@ -503,12 +515,22 @@ MpuField MpuField::fromParts(const Box3& domain, double support, double backgrou
         if (!q.origin.allFinite() || !q.A.allFinite() || !q.g.allFinite() || !std::isfinite(q.c0))
             throw std::invalid_argument("piece " + std::to_string(i) + " is not finite");
     }
+    for (size_t i = 0; i < interpolants.size(); ++i) {
+        const VariationalField& f = interpolants[i];
+        bool finite = f.linear.allFinite() && std::isfinite(f.constant) && f.weights.size() == f.centers.size() &&
+                      f.gradientWeights.size() == f.gradientCenters.size();
+        for (size_t k = 0; finite && k < f.centers.size(); ++k) finite = f.centers[k].allFinite() && std::isfinite(f.weights[k]);
+        for (size_t k = 0; finite && k < f.gradientCenters.size(); ++k)
+            finite = f.gradientCenters[k].allFinite() && f.gradientWeights[k].allFinite();
+        if (!finite) throw std::invalid_argument("interpolant " + std::to_string(i) + " is not finite or not whole");
+    }
     MpuField field;
     field.domain_ = domain;
     field.support_ = support;
     field.backgroundMargin_ = backgroundMargin;
     field.locals_ = std::move(locals);
     field.pieces_ = std::move(pieces);
+    field.interpolants_ = std::move(interpolants);
     field.finish();
     return field;
 }
@@ -678,6 +700,7 @@ double MpuField::valueAndSafeDistance(const Vec3& p, double& safeDistance) const
     // with h at most the near margin.
     struct Seen {
         double value, distance, radius, gradient, curvature;
+        const VariationalField* interpolant;  ///< bounded over the h-ball directly
     };
     thread_local std::vector<Seen> seen;  // grows once per thread, then reused
     int c[3];
@@ -698,18 +721,25 @@ double MpuField::valueAndSafeDistance(const Vec3& p, double& safeDistance) const
             const Local& l = locals_[items[k]];
             const double r2 = (p - l.center).squaredNorm(), R = l.radius, R2 = R * R;
             if (r2 >= (R + reach) * (R + reach)) continue;
-            // Each piece's value and gradient at p; a max or min of pieces
-            // takes one of their values (and gradients).
-            const MpuQuadric* q = &pieces_[l.first];
-            double v[3] = {0.0, 0.0, 0.0}, gradient = 0.0, curvature = 0.0;
-            for (int i = 0; i < l.count; ++i) {
-                Vec3 g;
-                v[i] = q[i].evaluate(p, &g);
-                gradient = std::max(gradient, g.norm());
-                curvature = std::max(curvature, pieceCurvatures_[l.first + i]);
+            double value = 0.0, gradient = 0.0, curvature = 0.0;
+            const VariationalField* interpolant = nullptr;
+            if (l.combination == MpuCombination::Interpolant) {
+                interpolant = &interpolants_[l.first];
+                value = interpolant->value(p);
+            } else {
+                // Each piece's value and gradient at p; a max or min of pieces
+                // takes one of their values (and gradients).
+                const MpuQuadric* q = &pieces_[l.first];
+                double v[3] = {0.0, 0.0, 0.0};
+                for (int i = 0; i < l.count; ++i) {
+                    Vec3 g;
+                    v[i] = q[i].evaluate(p, &g);
+                    gradient = std::max(gradient, g.norm());
+                    curvature = std::max(curvature, pieceCurvatures_[l.first + i]);
+                }
+                value = combineMpuPieces(l, v, largerValue, smallerValue);
             }
-            const double value = combineMpuPieces(l, v, largerValue, smallerValue);
-            seen.push_back({value, std::sqrt(r2), R, gradient, curvature});
+            seen.push_back({value, std::sqrt(r2), R, gradient, curvature, interpolant});
             if (r2 >= R2) continue;
             const double s = 1.0 - r2 / R2, w = s * s * s;
             W += w;
@@ -731,7 +761,8 @@ double MpuField::valueAndSafeDistance(const Vec3& p, double& safeDistance) const
     for (const Seen& l : seen) {
         const Interval distance{std::max(0.0, l.distance - h), l.distance + h};
         if (distance.lo >= l.radius) continue;
-        const double gradient = l.gradient + 2.0 * l.curvature * h;
+        const double gradient =
+            l.interpolant ? l.interpolant->lipschitz(Box3::around(p, h)) : l.gradient + 2.0 * l.curvature * h;
         slope += weightSlope(distance, l.radius) * (std::abs(l.value) + gradient * h) +
                  weightOf(distance.lo * distance.lo, l.radius * l.radius) * gradient;
     }

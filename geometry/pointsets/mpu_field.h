@@ -32,6 +32,7 @@
 
 #include "geometry/bounding_box.h"
 #include "geometry/interval.h"
+#include "geometry/variational/variational_field.h"
 #include "geometry/vector_types.h"
 
 namespace isotrace::geometry {
@@ -73,9 +74,14 @@ enum class MpuCombination : uint8_t {
     Min,       ///< min of all: a concave edge or corner
     MaxOfMin,  ///< max(min(p0, p1), p2): a corner with one concave edge (p0, p1)
     MinOfMax,  ///< min(max(p0, p1), p2): a corner with one convex edge (p0, p1)
+    /// An r^3 interpolant, interpolants()[first], instead of pieces: the
+    /// locals of a partition-of-unity variational fit
+    /// (pointsets/variational_partition.h).
+    Interpolant,
 };
 
-/// One local function: its ball and its pieces, pieces[first, first + count).
+/// One local function: its ball and its pieces, pieces[first, first + count)
+/// (or its interpolant).
 struct MpuLocal {
     Vec3 center = Vec3::Zero();
     double radius = 0;
@@ -90,7 +96,8 @@ struct MpuLocal {
 template <class T, class Larger, class Smaller>
 T combineMpuPieces(const MpuLocal& l, const T* v, Larger larger, Smaller smaller) {
     switch (l.combination) {
-    case MpuCombination::Single: break;
+    case MpuCombination::Single:
+    case MpuCombination::Interpolant: break;  // no pieces to combine
     case MpuCombination::Max: return l.count == 3 ? larger(larger(v[0], v[1]), v[2]) : larger(v[0], v[1]);
     case MpuCombination::Min: return l.count == 3 ? smaller(smaller(v[0], v[1]), v[2]) : smaller(v[0], v[1]);
     case MpuCombination::MaxOfMin: return larger(smaller(v[0], v[1]), v[2]);
@@ -117,7 +124,7 @@ public:
     /// std::invalid_argument when they do not make a field (pieces out of
     /// range, non-finite numbers, an empty domain).
     static MpuField fromParts(const Box3& domain, double support, double backgroundMargin, std::vector<MpuLocal> locals,
-                              std::vector<MpuQuadric> pieces);
+                              std::vector<MpuQuadric> pieces, std::vector<VariationalField> interpolants = {});
 
     double value(const Vec3& p) const;
     double valueAndGradient(const Vec3& p, Vec3& gradient) const;
@@ -145,6 +152,9 @@ public:
     // The parts, for saving (and for tracers that work on them).
     const std::vector<MpuLocal>& locals() const { return locals_; }
     const std::vector<MpuQuadric>& pieces() const { return pieces_; }
+    const std::vector<VariationalField>& interpolants() const { return interpolants_; }
+    /// Some local is an interpolant (tracers built for quadrics decline).
+    bool hasInterpolants() const { return !interpolants_.empty(); }
     double support() const { return support_; }
     double backgroundMargin() const { return backgroundMargin_; }
 
@@ -171,6 +181,7 @@ private:
 
     std::vector<Local> locals_;
     std::vector<MpuQuadric> pieces_;
+    std::vector<VariationalField> interpolants_;
     Box3 domain_;
     double support_ = 0.75;
     // A uniform grid over the domain: each cell lists the locals whose ball reaches it.

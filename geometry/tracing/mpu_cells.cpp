@@ -171,6 +171,8 @@ std::optional<CellAcceleration> MpuCellAccelerator::accelerate(const FieldProgra
     const auto* mpu = leaf ? std::get_if<MpuLeafField>(&leaf->shape) : nullptr;
     if (!mpu) return std::nullopt;
     const MpuField& field = *mpu->field;
+    // Interpolants (partitioned variational fits) are no polynomials along rays.
+    if (field.hasInterpolants()) return std::nullopt;
     const LeafPlacement& placement = leaf->placement;
     const Box3 leafBox = placement.identity ? box : transformBox(placement.linear, placement.offset, box);
     // Beyond the domain the background term is a distance, not a polynomial.

@@ -69,18 +69,8 @@ bool positiveOnFaces(const VariationalField& f, const Box3& box) {
 
 double denseFitBytes(size_t unknowns) { return 8.0 * double(unknowns) * double(unknowns); }
 
-VariationalField fitVariationalField(const ConstraintSet& set, FitReport* report, const FitOptions& options) {
-    const auto start = std::chrono::steady_clock::now();
-    const size_t n = set.values.size(), k = set.gradients.size();
-    const size_t m = n + 3 * k;  // functionals: values, then gradient components
-    if (m + 4 > options.maxUnknowns) {
-        char text[256];
-        std::snprintf(text, sizeof text,
-                      "%zu unknowns need %.1f GB for the dense solve, above the limit of %zu unknowns (%.1f GB); "
-                      "use fewer constraints",
-                      m + 4, denseFitBytes(m) / 1e9, options.maxUnknowns, denseFitBytes(options.maxUnknowns) / 1e9);
-        throw FitError(text);
-    }
+void checkConstraints(const ConstraintSet& set) {
+    const size_t n = set.values.size();
     if (n == 0) throw FitError("there are no value constraints: the surface's position is not fixed");
     for (const ValueConstraint& c : set.values)
         if (!c.position.allFinite() || !std::isfinite(c.value))
@@ -95,11 +85,16 @@ VariationalField fitVariationalField(const ConstraintSet& set, FitReport* report
         throw FitError("every constraint is zero, so f = 0 fits them all and there is no surface; add interior, "
                        "exterior or normal constraints");
 
-    const Box3 box = set.bounds();
-    const double size = std::max(box.extent().norm(), 1e-300);
+    const double size = std::max(set.bounds().extent().norm(), 1e-300);
     rejectCoincident(set.values, 1e-9 * size, "value");
     rejectCoincident(set.gradients, 1e-9 * size, "gradient");
+}
 
+VariationalField solveVariationalSystem(const ConstraintSet& set, double* reciprocalCondition) {
+    const size_t n = set.values.size(), k = set.gradients.size();
+    const size_t m = n + 3 * k;  // functionals: values, then gradient components
+    const Box3 box = set.bounds();
+    const double size = std::max(box.extent().norm(), 1e-300);
     // Positions relative to the box centre and in units of its size keep
     // the matrix entries near 1 whatever the model's scale.
     const Vec3 origin = box.center();
@@ -190,6 +185,27 @@ VariationalField fitVariationalField(const ConstraintSet& set, FitReport* report
     // p0 + p . x_l with x_l = (x - origin) scale.
     field.linear = Vec3(c[1], c[2], c[3]) * scale;
     field.constant = c[0] - field.linear.dot(origin);
+    if (reciprocalCondition) *reciprocalCondition = rcond;
+    return field;
+}
+
+VariationalField fitVariationalField(const ConstraintSet& set, FitReport* report, const FitOptions& options) {
+    const auto start = std::chrono::steady_clock::now();
+    const size_t n = set.values.size(), k = set.gradients.size();
+    const size_t m = n + 3 * k;
+    if (m + 4 > options.maxUnknowns) {
+        char text[256];
+        std::snprintf(text, sizeof text,
+                      "%zu unknowns need %.1f GB for the dense solve, above the limit of %zu unknowns (%.1f GB); "
+                      "use fewer constraints",
+                      m + 4, denseFitBytes(m) / 1e9, options.maxUnknowns, denseFitBytes(options.maxUnknowns) / 1e9);
+        throw FitError(text);
+    }
+    checkConstraints(set);
+    double rcond = 1.0;
+    VariationalField field = solveVariationalSystem(set, &rcond);
+    const Box3 box = set.bounds();
+    const double size = std::max(box.extent().norm(), 1e-300);
     // The domain must hold the whole surface: grow it until the field is
     // positive all over its faces (sampled), or warn.
     double margin = options.domainMargin;

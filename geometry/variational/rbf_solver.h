@@ -44,6 +44,16 @@ struct FitReport {
 VariationalField fitVariationalField(const ConstraintSet& constraints, FitReport* report = nullptr,
                                      const FitOptions& options = {});
 
+/// The checks fitVariationalField makes before solving: some value
+/// constraint, finite numbers, not every value zero, no two constraints of
+/// a kind at one place. Throws FitError.
+void checkConstraints(const ConstraintSet& constraints);
+
+/// The interpolant alone, for constraints already checked: no domain (left
+/// empty), no residuals. Throws FitError when the system is singular (the
+/// points in one plane, or too close for double precision).
+VariationalField solveVariationalSystem(const ConstraintSet& constraints, double* reciprocalCondition = nullptr);
+
 /// Bytes a dense fit of this many unknowns needs.
 double denseFitBytes(size_t unknowns);
 

@@ -28,6 +28,7 @@ struct FitCommand {
     double normalOffset = 0.0;  ///< 0: 0.01 of the bounding-box diagonal
     bool hermite = false;
     double margin = 0.0;        ///< 0: the default domain margin
+    std::string solver;         ///< empty: "auto"
     // MPU options; unset: the defaults of the scene format.
     std::optional<double> accuracy, support;
     std::optional<int> maxDepth, minPoints;
@@ -92,8 +93,9 @@ int runFit(const FitCommand& c) {
     if (!mpu && (c.accuracy || c.support || c.maxDepth || c.minPoints || c.smoothOnly))
         throw InputError("command line", "--method", "--accuracy, --support, --max-depth, --min-points and --smooth-only "
                                                      "are options of --method mpu");
-    if (mpu && (c.normalOffset > 0 || c.hermite || c.margin > 0))
-        throw InputError("command line", "--method", "--normal-offset, --hermite and --margin are options of --method variational");
+    if (mpu && (c.normalOffset > 0 || c.hermite || c.margin > 0 || !c.solver.empty()))
+        throw InputError("command line", "--method",
+                         "--normal-offset, --hermite, --margin and --solver are options of --method variational");
     // The command line becomes a description, so files and keys are read
     // exactly as in scene files.
     const bool points = geometry::isOrientedPointFile(c.input);
@@ -101,6 +103,7 @@ int runFit(const FitCommand& c) {
     if (c.normalOffset > 0) description["normal_offset"] = c.normalOffset;
     if (c.hermite) description["hermite"] = true;
     if (c.margin > 0) description["margin"] = c.margin;
+    if (!c.solver.empty()) description["solver"] = c.solver;
     if (c.accuracy) description["accuracy"] = *c.accuracy;
     if (c.support) description["support"] = *c.support;
     if (c.maxDepth) description["max_depth"] = *c.maxDepth;
@@ -120,6 +123,29 @@ int runFit(const FitCommand& c) {
     } catch (const InputError& e) {
         throw commandLineError(e, c.input, std::filesystem::absolute(c.input).string());
     }
+    // Keep the input's name as given, not the absolute path used to read it.
+    Json provenance = source.provenance;
+    provenance[points ? "points" : "mesh"]["file"] = c.input;
+    if (source.partitioned()) {
+        geometry::PartitionReport report;
+        geometry::PartitionOptions options;
+        options.domainMargin = source.options.domainMargin;
+        geometry::MpuField field;
+        try {
+            field = geometry::fitPartitionedVariationalField(source.constraints, &report, options);
+        } catch (const geometry::FitError& e) {
+            throw InputError(c.input, "", e.what());
+        }
+        writeFit(c.output,
+                 geometry::mpuFieldToJson(field, geometry::partitionSummary(report), provenance, source.hash).dump() + "\n");
+        for (const std::string& w : report.warnings) std::fprintf(stderr, "warning: %s: %s\n", c.input.c_str(), w.c_str());
+        if (!c.quiet)
+            std::fprintf(stderr, "fitted %zu constraints by a partition of %zu local interpolants (%.0f constraints each, "
+                                 "at most %zu) in %.3fs; max residual %.3g; wrote %s\n",
+                         report.constraints, report.locals, report.meanLocal, report.largestLocal, report.seconds,
+                         report.maxResidual, c.output.c_str());
+        return kExitSuccess;
+    }
     geometry::FitReport report;
     geometry::VariationalField field;
     try {
@@ -127,9 +153,6 @@ int runFit(const FitCommand& c) {
     } catch (const geometry::FitError& e) {
         throw InputError(c.input, "", e.what());
     }
-    // Keep the input's name as given, not the absolute path used to read it.
-    Json provenance = source.provenance;
-    provenance[points ? "points" : "mesh"]["file"] = c.input;
     writeFit(c.output, geometry::variationalFieldToJson(field, report, provenance, source.hash).dump() + "\n");
     for (const std::string& w : report.warnings) std::fprintf(stderr, "warning: %s: %s\n", c.input.c_str(), w.c_str());
     if (!c.quiet)
@@ -152,9 +175,13 @@ Subcommand addFitCommand(CLI::App& app) {
                     "The fitted field (JSON), for {\"type\": \"variational\" (or \"mpu\"), \"fitted\": ...}")
         ->required();
     sub->add_option("--method", c->method,
-                    "variational (exact interpolation, up to 20,000 unknowns) or mpu (local fits for large scans)")
+                    "variational (exact interpolation) or mpu (local quadric fits within an accuracy, for large scans)")
         ->check(CLI::IsMember({"variational", "mpu"}))
         ->capture_default_str();
+    sub->add_option("--solver", c->solver,
+                    "variational: dense (one interpolant), partition (local interpolants blended, any size) or auto "
+                    "(dense up to 20,000 unknowns; the default)")
+        ->check(CLI::IsMember({"auto", "dense", "partition"}));
     sub->add_option("--normal-offset", c->normalOffset,
                        "Distance of the normal constraints from the surface (default 0.01 of the bounding-box diagonal)")
         ->check(finitePositive());

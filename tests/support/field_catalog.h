@@ -62,6 +62,8 @@ inline std::vector<CatalogEntry> fieldCatalog() {
         {"mpu_transformed", R"({"type": "transform", "rotate": {"axis": [1, 2, 0], "angle": 35}, "scale": [1.4, 0.7, 1.0],
             "of": {"type": "mpu", "sample": "cube", "count": 300, "accuracy": 0.01}})"},
         {"variational", R"({"type": "variational", "boundary": [[0.8, 0.8, 0.8], [0.8, -0.8, -0.8], [-0.8, 0.8, -0.8], [-0.8, -0.8, 0.8]], "interior": [[0, 0, 0]]})"},
+        // Local interpolants blended (what fits past the dense limit use), forced on a small set.
+        {"variational_partition", R"({"type": "variational", "sample": "ring", "count": 150, "solver": "partition"})"},
         {"variational_hermite", R"({"type": "variational", "hermite": true, "normals": [[0.7, 0, 0, 1, 0, 0], [-0.7, 0, 0, -1, 0, 0],
             [0, 0.5, 0, 0, 1, 0], [0, -0.5, 0, 0, -1, 0], [0, 0, 0.6, 0, 0, 1], [0, 0, -0.6, 0, 0, -1]]})"},
         {"variational_in_csg", R"({"type": "difference", "of": [{"type": "variational", "normals": [[0.7, 0, 0, 1, 0, 0],

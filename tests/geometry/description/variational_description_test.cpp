@@ -3,9 +3,11 @@
 #include <gtest/gtest.h>
 
 #include <cstdlib>
+#include <fstream>
 #include <random>
 
 #include "geometry/description/field_parser.h"
+#include "geometry/description/mpu_description.h"
 #include "geometry/description/variational_description.h"
 #include "support/temporary_files.h"
 #include "support/test_data.h"
@@ -240,4 +242,64 @@ TEST(VariationalDescription, SampledFromAnotherField) {
     }
     EXPECT_GE(agree, total - total / 100) << agree << " of " << total;
     EXPECT_GT(v.value(Vec3::Zero()), 0.0) << "the hole stays open";
+}
+
+// "solver": "partition" gives an MPU leaf of interpolants; its saved form
+// (the MPU form, centres shared by index) loads bit-identically through
+// {"type": "variational", "fitted": ...}, and damage names the place.
+TEST(VariationalDescription, PartitionedFitsSaveLoadAndNameTheirDamage) {
+    TemporaryFolder folder;
+    const Json description = {{"type", "variational"}, {"solver", "partition"}, {"normals", sphereNormals(Vec3::Zero(), 1.0, 300)}};
+    JsonObjectReader reader(description, "/fields/v", "scene.json");
+    reader.string("type");
+    VariationalContext context;
+    const VariationalSource source = readVariationalSource(reader, context);
+    ASSERT_TRUE(source.partitioned());
+    PartitionReport report;
+    const MpuField fitted = fitPartitionedVariationalField(source.constraints, &report);
+    ASSERT_TRUE(fitted.hasInterpolants());
+    const Json saved = mpuFieldToJson(fitted, partitionSummary(report), source.provenance, source.hash);
+    std::ofstream(folder.file("fit.json")) << saved.dump();
+    const FieldLibrary library(Json::parse(R"({"v": {"type": "variational", "fitted": "fit.json"}})"), "/fields",
+                               folder.file("scene.json"));
+    const FieldProgram loaded = library.compile("v");
+    ASSERT_TRUE(std::holds_alternative<MpuLeafField>(loaded.singleLeaf()->shape));
+    std::mt19937_64 rng(4);
+    std::uniform_real_distribution<double> u(-1.3, 1.3);
+    for (int i = 0; i < 500; ++i) {
+        const Vec3 p(u(rng), u(rng), u(rng));
+        ASSERT_EQ(loaded.value(p), fitted.value(p)) << "at " << p.transpose();
+    }
+    auto damaged = [&](auto&& change) {
+        Json j = saved;
+        change(j);
+        try {
+            mpuFieldFromJson(j, "saved.json");
+        } catch (const InputError& e) {
+            return std::string(e.what());
+        }
+        return std::string();
+    };
+    EXPECT_NE(damaged([](Json& j) { j["interpolants"][2]["centers"][1] = 1u << 30; })
+                  .find("saved.json: /interpolants/2/centers/1: expected an index"),
+              std::string::npos);
+    EXPECT_NE(damaged([](Json& j) { j["interpolants"][0]["weights"].erase(0); }).find("/interpolants/0/weights"),
+              std::string::npos);
+    EXPECT_NE(damaged([](Json& j) { j["positions"].erase(0); }).find("/positions"), std::string::npos);
+    EXPECT_NE(damaged([](Json& j) { j["locals"][0][4] = 1u << 20; }).find("interpolant is out of range"), std::string::npos);
+    EXPECT_NE(damaged([](Json& j) { j["interpolants"][1]["linear"] = "x"; }).find("/interpolants/1/linear"),
+              std::string::npos);
+}
+
+TEST(VariationalDescription, SolverChoicesAreChecked) {
+    const std::string normals = sphereNormals(Vec3::Zero(), 1.0, 40).dump();
+    EXPECT_NE(compileError(R"({"v": {"type": "variational", "solver": "fast", "normals": )" + normals + "}}")
+                  .find("scene.json: /fields/v/solver: unknown solver \"fast\""),
+              std::string::npos);
+    // Blends refit their operands' kept constraints densely: a partitioned operand is refused.
+    const std::string blend = R"({"v": {"type": "variational", "blend": [
+        {"type": "variational", "solver": "partition", "normals": )" + normals + R"(},
+        {"type": "variational", "normals": )" + sphereNormals(Vec3(1, 0, 0), 1.0, 40).dump() + "}]}}";
+    EXPECT_NE(compileError(blend).find("/fields/v/blend/0: blend operands are fitted by the dense solver"),
+              std::string::npos) << compileError(blend);
 }

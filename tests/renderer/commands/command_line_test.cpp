@@ -484,6 +484,31 @@ TEST(CommandLine, FitMpuWritesAFieldScenesLoad) {
     EXPECT_EQ(same.exitCode, 0) << same.output;
 }
 
+// --solver partition (what fits past 20,000 unknowns use by themselves):
+// the saved MPU form loads as a variational field and polygonizes to a sphere.
+TEST(CommandLine, FitSolverPartitionWritesLocalInterpolants) {
+    TemporaryFolder folder;
+    const std::string fitted = folder.file("sphere.fit.json");
+    const auto fit = runIsotrace("fit " + std::string(ISOTRACE_TEST_DATA_DIR) + "/sphere926.pwn --solver partition -o " + fitted);
+    ASSERT_EQ(fit.exitCode, 0) << fit.output;
+    EXPECT_NE(fit.output.find("fitted 1852 constraints by a partition of"), std::string::npos) << fit.output;
+    const auto saved = nlohmann::json::parse(std::ifstream(fitted));
+    EXPECT_GT(saved["interpolants"].size(), 10u);
+    EXPECT_EQ(saved["source"]["solver"], "partition");
+    EXPECT_LT(saved["fit"]["max_error"].get<double>(), 1e-6);
+    std::string scene = kSmallScene;
+    scene.replace(scene.find("{\"type\": \"sphere\", \"radius\": 1}"), 31,
+                  "{\"type\": \"variational\", \"fitted\": \"sphere.fit.json\"}");
+    const auto mesh = runIsotrace("polygonize " + folder.write("fitted.json", scene) +
+                                  " --field ball --resolution 24 --report -o " + folder.file("ball.ply"));
+    ASSERT_EQ(mesh.exitCode, 0) << mesh.output;
+    EXPECT_EQ(nlohmann::json::parse(mesh.output)["euler_characteristic"], 2);
+    const auto wrong = runIsotrace("fit " + std::string(ISOTRACE_TEST_DATA_DIR) + "/sphere926.pwn --method mpu --solver dense -o " +
+                                   folder.file("x.json"));
+    EXPECT_EQ(wrong.exitCode, 2);
+    EXPECT_NE(wrong.output.find("--solver are options of --method variational"), std::string::npos) << wrong.output;
+}
+
 TEST(CommandLine, FitWritesAFieldScenesLoadAndRefusesBadInput) {
     TemporaryFolder folder;
     const std::string fitted = folder.file("sphere.fit.json");
