@@ -690,7 +690,8 @@ double MpuField::valueAndSafeDistance(const Vec3& p, double& safeDistance) const
     //
     // Over the ball of radius h around p (h = |f| at most: near the surface
     // f is about a distance), each piece's gradient moves at most 2 |A| h
-    // from its value at p, and its value at most that slope times h; w_i
+    // from its value at p (an interpolant's at most ||D^2|| h plus
+    // ||D^3|| h^2 / 2), and its value at most that slope times h; w_i
     // and |grad w_i| come from the range of distances [d_i - h, d_i + h].
     // The bound proves the ball of radius |N| / L, and no more than h.
     //
@@ -700,7 +701,7 @@ double MpuField::valueAndSafeDistance(const Vec3& p, double& safeDistance) const
     // with h at most the near margin.
     struct Seen {
         double value, distance, radius, gradient, curvature;
-        const VariationalField* interpolant;  ///< bounded over the h-ball directly
+        double third;  ///< an interpolant's third-derivative bound (0 for quadrics)
     };
     thread_local std::vector<Seen> seen;  // grows once per thread, then reused
     int c[3];
@@ -721,11 +722,14 @@ double MpuField::valueAndSafeDistance(const Vec3& p, double& safeDistance) const
             const Local& l = locals_[items[k]];
             const double r2 = (p - l.center).squaredNorm(), R = l.radius, R2 = R * R;
             if (r2 >= (R + reach) * (R + reach)) continue;
-            double value = 0.0, gradient = 0.0, curvature = 0.0;
-            const VariationalField* interpolant = nullptr;
+            double value = 0.0, gradient = 0.0, curvature = 0.0, third = 0.0;
             if (l.combination == MpuCombination::Interpolant) {
-                interpolant = &interpolants_[l.first];
-                value = interpolant->value(p);
+                // Its gradient over the h-ball: |grad| + ||D^2|| h + ||D^3|| h^2 / 2.
+                const VariationalField::PointBounds b = interpolants_[l.first].boundsAt(p);
+                value = b.value;
+                gradient = b.gradientNorm;
+                curvature = 0.5 * b.hessian;
+                third = b.third;
             } else {
                 // Each piece's value and gradient at p; a max or min of pieces
                 // takes one of their values (and gradients).
@@ -739,7 +743,7 @@ double MpuField::valueAndSafeDistance(const Vec3& p, double& safeDistance) const
                 }
                 value = combineMpuPieces(l, v, largerValue, smallerValue);
             }
-            seen.push_back({value, std::sqrt(r2), R, gradient, curvature, interpolant});
+            seen.push_back({value, std::sqrt(r2), R, gradient, curvature, third});
             if (r2 >= R2) continue;
             const double s = 1.0 - r2 / R2, w = s * s * s;
             W += w;
@@ -761,8 +765,7 @@ double MpuField::valueAndSafeDistance(const Vec3& p, double& safeDistance) const
     for (const Seen& l : seen) {
         const Interval distance{std::max(0.0, l.distance - h), l.distance + h};
         if (distance.lo >= l.radius) continue;
-        const double gradient =
-            l.interpolant ? l.interpolant->lipschitz(Box3::around(p, h)) : l.gradient + 2.0 * l.curvature * h;
+        const double gradient = l.gradient + 2.0 * l.curvature * h + 0.5 * l.third * h * h;
         slope += weightSlope(distance, l.radius) * (std::abs(l.value) + gradient * h) +
                  weightOf(distance.lo * distance.lo, l.radius * l.radius) * gradient;
     }

@@ -152,6 +152,11 @@ BoxBounds boxBounds(const VariationalField& f, const Box3& box) {
 
 }  // namespace
 
+VariationalField::PointBounds VariationalField::boundsAt(const Vec3& x) const {
+    const BoxBounds b = taylorAt(*this, x);
+    return {b.value, b.gradientNorm, b.hessianAtCenter + b.hermiteHessian, b.thirdDerivative};
+}
+
 double VariationalField::valueAndSafeDistance(const Vec3& x, double& safeDistance) const {
     const BoxBounds b = taylorAt(*this, x);
     const double v = std::abs(b.value), g = b.gradientNorm, h = b.hessianAtCenter + b.hermiteHessian,

@@ -36,6 +36,14 @@ struct VariationalField {
     /// bound: far longer steps than a box's Lipschitz bound allows, because
     /// the sums at x keep their cancellation.
     double valueAndSafeDistance(const Vec3& x, double& safeDistance) const;
+    /// The value at x with what bounds f around it, in one pass over the
+    /// terms: |grad f(x)|, a bound on ||D^2 f(x)|| and one on ||D^3 f||
+    /// anywhere; over the ball of radius h around x,
+    /// |grad f| <= gradientNorm + hessian h + third h^2 / 2.
+    struct PointBounds {
+        double value, gradientNorm, hessian, third;
+    };
+    PointBounds boundsAt(const Vec3& x) const;
     Box3 bounds() const { return domain; }
     size_t termCount() const { return centers.size() + 3 * gradientCenters.size(); }
     size_t constraintCount() const { return centers.size() + gradientCenters.size(); }
