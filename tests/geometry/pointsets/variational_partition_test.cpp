@@ -176,3 +176,24 @@ TEST(VariationalPartition, ScenesFitPastTheDenseLimit) {
         EXPECT_NE(std::string(e.what()).find("above the limit of 20000 unknowns"), std::string::npos) << e.what();
     }
 }
+
+// Hermite constraints: at a constraint every interpolant reaching it has the
+// same value and gradient, so the blend's gradient sum_i w_i grad f_i / W +
+// sum_i (f_i - f) grad w_i / W is the constraint's exactly.
+TEST(VariationalPartition, MeetsGradientConstraints) {
+    const ConstraintSet c = constraintsFromOrientedPoints(torusPoints(400), 0.0, true);
+    ASSERT_EQ(c.gradients.size(), 400u);
+    PartitionOptions options;
+    options.leafConstraints = 24;
+    PartitionReport report;
+    const MpuField f = fitPartitionedVariationalField(c, &report, options);
+    EXPECT_GT(report.locals, 8u);
+    for (const GradientConstraint& g : c.gradients) {
+        Vec3 gradient;
+        const double v = f.valueAndGradient(g.position, gradient);
+        ASSERT_NEAR(v, 0.0, 1e-7);
+        ASSERT_LT((gradient - g.gradient).norm(), 1e-5) << g.position.transpose();
+    }
+    EXPECT_LT(f.value(Vec3(1, 0, 0)), 0.0);
+    EXPECT_GT(f.value(Vec3(0, 0, 0)), 0.0);
+}
