@@ -352,11 +352,10 @@ std::shared_ptr<const MpuField> fitPartitionCached(const VariationalSource& sour
                                                    const VariationalContext& context) {
     if (std::shared_ptr<const MpuField> field = context.fits->findMpu(source.hash)) return field;
     PartitionReport report;
-    PartitionOptions options;
-    options.domainMargin = source.options.domainMargin;
     std::shared_ptr<const MpuField> field;
     try {
-        field = std::make_shared<const MpuField>(fitPartitionedVariationalField(source.constraints, &report, options));
+        field = std::make_shared<const MpuField>(
+            fitPartitionedVariationalField(source.constraints, &report, source.partitionOptions()));
     } catch (const FitError& e) {
         throw InputError(r.file(), r.pointer(), e.what());
     }

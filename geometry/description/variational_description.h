@@ -10,6 +10,7 @@
 #include "geometry/field_program.h"
 #include "geometry/description/fit_cache.h"
 #include "geometry/description/json_reader.h"
+#include "geometry/pointsets/variational_partition.h"
 #include "geometry/variational/rbf_solver.h"
 
 namespace isotrace::geometry {
@@ -28,6 +29,13 @@ struct VariationalSource {
     VariationalSolver solver = VariationalSolver::Automatic;
     Json provenance;       ///< where the constraints came from (files with their hashes, counts)
     std::string hash;      ///< of the constraints and fit options themselves: the cache key
+
+    /// The partitioned solver's options for this source (its domain margin).
+    PartitionOptions partitionOptions() const {
+        PartitionOptions o;
+        o.domainMargin = options.domainMargin;
+        return o;
+    }
 
     bool partitioned() const {
         return solver == VariationalSolver::Partition ||

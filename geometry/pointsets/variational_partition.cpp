@@ -195,9 +195,7 @@ MpuField fitPartitionedVariationalField(const ConstraintSet& set, PartitionRepor
         residual[i] = i < values ? std::abs(v - set.values[i].value)
                                  : (g - set.gradients[i - values].gradient).cwiseAbs().maxCoeff();
     });
-    double valueScale = 0.0;
-    for (const ValueConstraint& v : set.values) valueScale = std::max(valueScale, std::abs(v.value));
-    for (const GradientConstraint& g : set.gradients) valueScale = std::max(valueScale, g.gradient.norm() * size);
+    const double valueScale = constraintValueScale(set);
     for (double e : residual) r.maxResidual = std::max(r.maxResidual, e);
     char text[200];
     // The background term (MpuField::kBackgroundWeight) alone moves values

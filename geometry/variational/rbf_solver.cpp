@@ -67,6 +67,14 @@ bool positiveOnFaces(const VariationalField& f, const Box3& box) {
 
 }  // namespace
 
+double constraintValueScale(const ConstraintSet& set) {
+    const double size = set.bounds().extent().norm();
+    double scale = 0.0;
+    for (const ValueConstraint& v : set.values) scale = std::max(scale, std::abs(v.value));
+    for (const GradientConstraint& g : set.gradients) scale = std::max(scale, g.gradient.norm() * size);
+    return scale;
+}
+
 double denseFitBytes(size_t unknowns) { return 8.0 * double(unknowns) * double(unknowns); }
 
 void checkConstraints(const ConstraintSet& set) {
@@ -231,9 +239,7 @@ VariationalField fitVariationalField(const ConstraintSet& set, FitReport* report
     });
     for (double e : residual) r.maxResidual = std::max(r.maxResidual, e);
     // Residuals are judged against the size of what was asked for.
-    double valueScale = 0.0;
-    for (const ValueConstraint& v : set.values) valueScale = std::max(valueScale, std::abs(v.value));
-    for (const GradientConstraint& g : set.gradients) valueScale = std::max(valueScale, g.gradient.norm() * size);
+    const double valueScale = constraintValueScale(set);
     char text[160];
     if (r.maxResidual > 1e-6 * valueScale) {
         std::snprintf(text, sizeof text, "the fit misses its constraints by up to %.3g (constraint values up to %.3g)",

@@ -54,6 +54,10 @@ void checkConstraints(const ConstraintSet& constraints);
 /// points in one plane, or too close for double precision).
 VariationalField solveVariationalSystem(const ConstraintSet& constraints, double* reciprocalCondition = nullptr);
 
+/// The size of what the constraints ask for, against which residuals are
+/// judged: the largest |value| and |gradient| times the constraints' diagonal.
+double constraintValueScale(const ConstraintSet& constraints);
+
 /// Bytes a dense fit of this many unknowns needs.
 double denseFitBytes(size_t unknowns);
 

@@ -128,11 +128,9 @@ int runFit(const FitCommand& c) {
     provenance[points ? "points" : "mesh"]["file"] = c.input;
     if (source.partitioned()) {
         geometry::PartitionReport report;
-        geometry::PartitionOptions options;
-        options.domainMargin = source.options.domainMargin;
         geometry::MpuField field;
         try {
-            field = geometry::fitPartitionedVariationalField(source.constraints, &report, options);
+            field = geometry::fitPartitionedVariationalField(source.constraints, &report, source.partitionOptions());
         } catch (const geometry::FitError& e) {
             throw InputError(c.input, "", e.what());
         }

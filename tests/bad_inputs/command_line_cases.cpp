@@ -135,6 +135,8 @@ std::vector<BadInputCase> commandLineCases() {
                  {{"nan.xyz", "0 0 0 0 0 1\n1 0 0 0 0 1\n1 nan 0 0 0 1\n"}}));
     add(makeCase("fit_mpu_points_in_a_plane", "fit plane.xyz -o out.json --method mpu", {"plane.xyz", "one plane"}, {},
                  {{"plane.xyz", "0 0 0 0 0 1\n1 0 0 0 0 1\n2 0 0 0 0 1\n3 0 0 0 0 1\n4 0 0 0 0 1\n0 1 0 0 0 1\n1 1 0 0 0 1\n2 1 0 0 0 1\n3 1 0 0 0 1\n4 1 0 0 0 1\n0 2 0 0 0 1\n1 2 0 0 0 1\n2 2 0 0 0 1\n3 2 0 0 0 1\n4 2 0 0 0 1\n0 3 0 0 0 1\n1 3 0 0 0 1\n2 3 0 0 0 1\n3 3 0 0 0 1\n4 3 0 0 0 1\n"}}));
+    add(makeCase("fit_unknown_solver", "fit flat.xyz --solver fastest -o out.json", {"--solver", "fastest"}, {},
+                 {{"flat.xyz", "0 0 0 0 0 1\n1 0 1 0 0 1\n"}}));
     // Past 20,000 unknowns the automatic solver partitions; forcing the dense one is refused.
     add(makeCase("fit_too_many_unknowns", "fit big.xyz --solver dense -o out.json", {"big.xyz", "above the limit of 20000"},
                 {"awk 'BEGIN { for (i = 0; i < 12000; i++) { z = -1 + 2 * (i + 0.5) / 12000; r = sqrt(1 - z * z); "
