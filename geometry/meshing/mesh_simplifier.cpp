@@ -1,6 +1,8 @@
 #include "geometry/meshing/mesh_simplifier.h"
 
-#include <Eigen/Dense>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
 #include <algorithm>
 #include <cmath>
 #include <queue>
@@ -11,14 +13,72 @@ namespace isotrace::geometry {
 
 namespace {
 
-using Quadric = Eigen::Matrix4d;
+// Garland and Heckbert's quadric as its ten distinct entries: the weighted
+// sum of squared distances to planes, error(p) = pᵀAp + 2bᵀp + c.
+struct Quadric {
+    double a00 = 0, a01 = 0, a02 = 0, a11 = 0, a12 = 0, a22 = 0, b0 = 0, b1 = 0, b2 = 0, c = 0;
 
+    /// The plane n·p + d = 0 (n of unit length), weighted.
+    static Quadric ofPlane(const Vec3& n, double d, double weight) {
+        Quadric q;
+        q.a00 = weight * n.x() * n.x(), q.a01 = weight * n.x() * n.y(), q.a02 = weight * n.x() * n.z();
+        q.a11 = weight * n.y() * n.y(), q.a12 = weight * n.y() * n.z(), q.a22 = weight * n.z() * n.z();
+        q.b0 = weight * d * n.x(), q.b1 = weight * d * n.y(), q.b2 = weight * d * n.z();
+        q.c = weight * d * d;
+        return q;
+    }
+
+    Quadric& operator+=(const Quadric& o) {
+        a00 += o.a00, a01 += o.a01, a02 += o.a02, a11 += o.a11, a12 += o.a12, a22 += o.a22;
+        b0 += o.b0, b1 += o.b1, b2 += o.b2, c += o.c;
+        return *this;
+    }
+    friend Quadric operator+(Quadric a, const Quadric& b) { return a += b; }
+
+    double error(const Vec3& p) const {
+        const double x = p.x(), y = p.y(), z = p.z();
+        return x * (a00 * x + 2.0 * (a01 * y + a02 * z + b0)) + y * (a11 * y + 2.0 * (a12 * z + b1)) +
+               z * (a22 * z + 2.0 * b2) + c;
+    }
+
+    /// The minimiser A⁻¹(−b) by the adjugate, unless A is near singular
+    /// (a flat or cylindrical neighbourhood: no unique minimum).
+    bool minimum(Vec3& out) const {
+        const double c00 = a11 * a22 - a12 * a12, c01 = a02 * a12 - a01 * a22, c02 = a01 * a12 - a02 * a11;
+        const double det = a00 * c00 + a01 * c01 + a02 * c02;
+        const double trace = a00 + a11 + a22;
+        if (!(std::abs(det) > 1e-12 * trace * trace * trace)) return false;
+        const double c11 = a00 * a22 - a02 * a02, c12 = a01 * a02 - a00 * a12, c22 = a00 * a11 - a01 * a01;
+        out = Vec3(c00 * b0 + c01 * b1 + c02 * b2, c01 * b0 + c11 * b1 + c12 * b2, c02 * b0 + c12 * b1 + c22 * b2) / -det;
+        return true;
+    }
+};
+
+// A queued collapse, 16 bytes: the queue is the simplifier's busiest
+// memory. Stamps only grow, so their sum changes whenever either end
+// changed after the candidate was queued.
 struct Candidate {
-    double cost;
+    float cost;
     uint32_t u, v;
-    uint32_t stampU, stampV;
+    uint32_t stamps;
     bool operator>(const Candidate& o) const { return cost > o.cost; }
 };
+
+constexpr uint32_t kAnyBlock = UINT32_MAX;
+
+// One queue of candidate collapses and its scratch lists. A block's worker
+// collapses only edges whose surrounding faces all lie in its block.
+struct Worker {
+    uint32_t block = kAnyBlock;
+    std::priority_queue<Candidate, std::vector<Candidate>, std::greater<Candidate>> queue;
+    std::vector<uint32_t> ringU, ringV, kept;
+    std::vector<std::pair<double, Vec3>> centroids;  ///< (how far it moved², centroid) of each new face
+};
+
+// Blocks hold about this many vertices (up to 4 x 4 x 4 of them): enough
+// work per block to hide scheduling, and walls thin against the block.
+constexpr double kVerticesPerBlock = 4096.0;
+constexpr int kMaxBlocksPerAxis = 4;
 
 class Simplifier {
 public:
@@ -26,10 +86,15 @@ public:
         : mesh_(mesh), field_(field), options_(options) {
         const size_t n = mesh.vertices.size();
         facesOf_.resize(n);
-        quadric_.assign(n, Quadric::Zero());
+        quadric_.assign(n, Quadric());
         stamp_.assign(n, 0);
-        removedVertex_.assign(n, false);
-        removedFace_.assign(mesh.triangles.size(), false);
+        removedVertex_.assign(n, 0);
+        deferred_.assign(n, 0);
+        removedFace_.assign(mesh.triangles.size(), 0);
+        std::vector<uint32_t> degree(n, 0);
+        for (const auto& t : mesh.triangles)
+            for (uint32_t v : t) ++degree[v];
+        for (size_t v = 0; v < n; ++v) facesOf_[v].reserve(degree[v]);
         for (uint32_t f = 0; f < mesh.triangles.size(); ++f) {
             const Quadric q = faceQuadric(f);
             for (uint32_t v : mesh.triangles[f]) {
@@ -37,31 +102,116 @@ public:
                 quadric_[v] += q;
             }
         }
-        for (uint32_t f = 0; f < mesh.triangles.size(); ++f)
-            for (int k = 0; k < 3; ++k) {
-                const uint32_t a = mesh.triangles[f][k], b = mesh.triangles[f][(k + 1) % 3];
-                if (a < b) push(a, b);
-            }
     }
 
     size_t run() {
-        size_t collapses = 0;
-        while (!queue_.empty()) {
-            const Candidate c = queue_.top();
-            queue_.pop();
-            if (removedVertex_[c.u] || removedVertex_[c.v] || stamp_[c.u] != c.stampU || stamp_[c.v] != c.stampV) continue;
-            Vec3 position;
-            if (!placement(c.u, c.v, position)) continue;
-            if (!collapseIsValid(c.u, c.v, position)) continue;
-            collapse(c.u, c.v, position);
-            ++collapses;
+        size_t total = 0;
+        tbb::task_arena arena(options_.threads > 0 ? options_.threads : tbb::task_arena::automatic);
+        // Two rounds over blocks, the second on a grid shifted by half a
+        // block and seeded with the edges the first had to leave, so that
+        // only edges near the walls of both grids wait for the whole mesh.
+        std::vector<uint8_t> seed(mesh_.vertices.size(), 1);
+        const BlockGrid grid = blockGrid();
+        for (double shift : {0.0, 0.5}) {
+            const std::vector<std::vector<uint32_t>> seedsOf = assignBlocks(grid, shift, seed);
+            std::fill(deferred_.begin(), deferred_.end(), 0);
+            std::vector<size_t> collapses(seedsOf.size(), 0);
+            // Each block owns its vertices and the faces wholly inside it,
+            // so no two workers touch the same data.
+            arena.execute([&] {
+                tbb::parallel_for(size_t(0), seedsOf.size(), [&](size_t b) {
+                    Worker worker;
+                    worker.block = uint32_t(b);
+                    for (uint32_t u : seedsOf[b]) {
+                        neighbours(u, worker.ringU);
+                        for (uint32_t w : worker.ringU) {
+                            if (block_[w] != b) deferred_[u] = 1;
+                            else if (!seed[w] || u < w) push(worker, u, w);
+                        }
+                    }
+                    collapses[b] = drain(worker);
+                });
+            });
+            for (size_t c : collapses) total += c;
+            seed.swap(deferred_);
         }
-        collapses += removeSlivers();
-        compact();
-        return collapses;
+        Worker whole;
+        for (uint32_t u = 0; u < mesh_.vertices.size(); ++u) {
+            if (!seed[u] || removedVertex_[u]) continue;
+            neighbours(u, whole.ringU);
+            for (uint32_t w : whole.ringU)
+                if (!seed[w] || u < w) push(whole, u, w);
+        }
+        total += drain(whole);
+        total += removeSlivers(whole);
+        arena.execute([&] { compact(); });
+        return total;
     }
 
 private:
+    struct BlockGrid {
+        Vec3 lo, cellsPerUnit;
+        int perAxis;
+    };
+
+    // A grid over the vertices' bounding box with blocks of about
+    // kVerticesPerBlock vertices.
+    BlockGrid blockGrid() const {
+        Vec3 lo = Vec3::Constant(INFINITY), hi = Vec3::Constant(-INFINITY);
+        for (uint32_t v = 0; v < mesh_.vertices.size(); ++v)
+            if (!facesOf_[v].empty()) lo = lo.cwiseMin(mesh_.vertices[v]), hi = hi.cwiseMax(mesh_.vertices[v]);
+        const int perAxis = std::clamp(int(std::lround(std::cbrt(double(mesh_.vertices.size()) / kVerticesPerBlock))), 1,
+                                       kMaxBlocksPerAxis);
+        return {lo, (double(perAxis) / (hi - lo).array().max(1e-300)).matrix(), perAxis};
+    }
+
+    // Every live vertex's block in the grid shifted by `shift` blocks; the
+    // seeds of each block in a list.
+    std::vector<std::vector<uint32_t>> assignBlocks(const BlockGrid& grid, double shift, const std::vector<uint8_t>& seed) {
+        const int cells = grid.perAxis + (shift > 0 ? 1 : 0);
+        std::vector<std::vector<uint32_t>> seedsOf(size_t(cells) * cells * cells);
+        block_.assign(mesh_.vertices.size(), 0);
+        for (uint32_t v = 0; v < mesh_.vertices.size(); ++v) {
+            if (removedVertex_[v] || facesOf_[v].empty()) continue;
+            int cell[3];
+            for (int k = 0; k < 3; ++k)
+                cell[k] = std::clamp(int((mesh_.vertices[v][k] - grid.lo[k]) * grid.cellsPerUnit[k] + shift), 0, cells - 1);
+            block_[v] = uint32_t((cell[0] * cells + cell[1]) * cells + cell[2]);
+            if (seed[v]) seedsOf[block_[v]].push_back(v);
+        }
+        return seedsOf;
+    }
+
+    size_t drain(Worker& worker) {
+        size_t collapses = 0;
+        while (!worker.queue.empty()) {
+            const Candidate c = worker.queue.top();
+            worker.queue.pop();
+            if (removedVertex_[c.u] || removedVertex_[c.v] || stamp_[c.u] + stamp_[c.v] != c.stamps) continue;
+            if (!ownsNeighbourhood(worker, c.u, c.v)) continue;
+            Vec3 position;
+            if (!placement(c.u, c.v, position)) continue;
+            if (!collapseIsValid(worker, c.u, c.v, position)) continue;
+            collapse(worker, c.u, c.v, position);
+            ++collapses;
+        }
+        return collapses;
+    }
+
+    // Whether every face around u and v lies in the worker's block; if not,
+    // the edge waits for the whole-mesh queue.
+    bool ownsNeighbourhood(Worker& worker, uint32_t u, uint32_t v) {
+        if (worker.block == kAnyBlock) return true;
+        for (uint32_t w : {u, v})
+            for (uint32_t f : facesOf_[w])
+                for (uint32_t x : mesh_.triangles[f])
+                    if (block_[x] != worker.block) {
+                        deferred_[u] = deferred_[v] = 1;
+                        return false;
+                    }
+        return true;
+    }
+
     double aspectRatio(uint32_t f) const {
         const auto& t = mesh_.triangles[f];
         return triangleAspectRatio(mesh_.vertices[t[0]], mesh_.vertices[t[1]], mesh_.vertices[t[2]]);
@@ -71,7 +221,7 @@ private:
     // makes them where the surface passes near a grid corner): a needle loses
     // its shortest edge, a cap has its longest edge flipped, each only when
     // the tolerance, the topology and the faces' orientation still hold.
-    size_t removeSlivers() {
+    size_t removeSlivers(Worker& worker) {
         size_t changes = 0;
         for (int round = 0; round < 4; ++round) {
             size_t changed = 0;
@@ -87,8 +237,8 @@ private:
                 }
                 const uint32_t u = t[shortest], v = t[(shortest + 1) % 3];
                 Vec3 position;
-                if (placement(u, v, position) && collapseIsValid(u, v, position)) {
-                    collapse(u, v, position);
+                if (placement(u, v, position) && collapseIsValid(worker, u, v, position)) {
+                    collapse(worker, u, v, position);
                     ++changed;
                 } else if (flip(t[longest], t[(longest + 1) % 3])) {
                     ++changed;
@@ -99,7 +249,6 @@ private:
         }
         return changes;
     }
-
     // Replaces the edge a-b of triangles (a, b, c) and (b, a, d) by c-d, if
     // that makes the worse of the two triangles better and keeps the mesh
     // manifold, oriented, unfolded and within the tolerance.
@@ -160,10 +309,9 @@ private:
         const auto& t = mesh_.triangles[f];
         const Vec3 n = (mesh_.vertices[t[1]] - mesh_.vertices[t[0]]).cross(mesh_.vertices[t[2]] - mesh_.vertices[t[0]]);
         const double area2 = n.norm();
-        if (!(area2 > 0)) return Quadric::Zero();
+        if (!(area2 > 0)) return Quadric();
         const Vec3 unit = n / area2;
-        const Eigen::Vector4d plane(unit.x(), unit.y(), unit.z(), -unit.dot(mesh_.vertices[t[0]]));
-        return 0.5 * area2 * plane * plane.transpose();  // area weighted
+        return Quadric::ofPlane(unit, -unit.dot(mesh_.vertices[t[0]]), 0.5 * area2);  // area weighted
     }
 
     double distanceToSurface(const Vec3& p) const {
@@ -181,25 +329,27 @@ private:
     bool placement(uint32_t u, uint32_t v, Vec3& out, bool project = true) const {
         const Quadric q = quadric_[u] + quadric_[v];
         const Vec3 &pu = mesh_.vertices[u], &pv = mesh_.vertices[v];
-        auto error = [&](const Vec3& p) { return p.homogeneous().dot(q * p.homogeneous()); };
-        Vec3 best = 0.5 * (pu + pv);
-        const Eigen::Matrix3d A = q.topLeftCorner<3, 3>();
-        const Eigen::FullPivLU<Eigen::Matrix3d> lu(A);
-        if (lu.rank() == 3) {
-            const Vec3 x = lu.solve(-q.topRightCorner<3, 1>());
-            // Stay near the edge: a far minimum means an ill-conditioned quadric.
-            if ((x - best).norm() < 2.0 * (pu - pv).norm()) best = x;
+        Vec3 best = 0.5 * (pu + pv), x;
+        // Stay near the edge: a far minimum means an ill-conditioned quadric.
+        if (q.minimum(x) && (x - best).squaredNorm() < 4.0 * (pu - pv).squaredNorm()) best = x;
+        double bestError = q.error(best);
+        for (const Vec3& p : {pu, pv}) {
+            const double e = q.error(p);
+            if (e < bestError) best = p, bestError = e;
         }
-        for (const Vec3& p : {pu, pv})
-            if (error(p) < error(best)) best = p;
-        for (int i = 0; project && i < 3; ++i) {
+        // Up to three Newton steps, fewer once the point is on the surface
+        // to well within the tolerance (the quadric minimum of a flat
+        // neighbourhood already is); the last evaluation gives the distance.
+        double distance = 0.0;
+        for (int i = 0; project; ++i) {
             Vec3 g;
             const double f = field_.valueAndGradient(best, g);
             const double g2 = g.squaredNorm();
-            if (!(g2 > 0)) break;
+            distance = g2 > 0 ? std::abs(f) / std::sqrt(g2) : std::abs(f);
+            if (i == 3 || !(g2 > 0) || distance <= 1e-3 * options_.maxDistance) break;
             best -= (f / g2) * g;
         }
-        if (!best.allFinite()) return false;
+        if (!best.allFinite() || !(distance <= options_.maxDistance)) return false;
         out = best;
         return true;
     }
@@ -215,10 +365,10 @@ private:
         out.erase(std::unique(out.begin(), out.end()), out.end());
     }
 
-    bool collapseIsValid(uint32_t u, uint32_t v, const Vec3& p) const {
+    bool collapseIsValid(Worker& worker, uint32_t u, uint32_t v, const Vec3& p) const {
         // Link condition: the only common neighbours are the two opposite
         // vertices of the edge's triangles.
-        std::vector<uint32_t>&nu = scratchU_, &nv = scratchV_;
+        std::vector<uint32_t>&nu = worker.ringU, &nv = worker.ringV;
         neighbours(u, nu);
         neighbours(v, nv);
         size_t common = 0;
@@ -229,12 +379,15 @@ private:
         }
         if (common != 2) return false;
         if (nu.size() + nv.size() <= 6) return false;  // would collapse a tetrahedron
-        if (distanceToSurface(p) > options_.maxDistance) return false;
         // Refuse making a sliver, not replacing one by a lesser one: the
         // worst face around the edge after must be fine or better than the
         // worst before (marching cubes leaves fans of slivers at grid corners,
         // where a test face by face refuses every collapse).
+        // The field is asked last, for the faces that pass the geometric
+        // tests: most refusals are geometric and cost no evaluation.
         double worstBefore = 0.0, worstAfter = 0.0;
+        auto& centroids = worker.centroids;
+        centroids.clear();
         for (uint32_t w : {u, v}) {
             for (uint32_t f : facesOf_[w]) {
                 const auto& t = mesh_.triangles[f];
@@ -251,28 +404,35 @@ private:
                 if (!(n1.norm() > 0)) return false;
                 if (!keepsOrientation(before, n1)) return false;
                 worstAfter = std::max(worstAfter, triangleAspectRatio(after[0], after[1], after[2]));
-                if (distanceToSurface((after[0] + after[1] + after[2]) / 3.0) > options_.maxDistance) return false;
+                const Vec3 centroid = (after[0] + after[1] + after[2]) / 3.0;
+                // The face that moved most is the likeliest to leave the
+                // tolerance: ask it first.
+                centroids.push_back({(centroid - (before[0] + before[1] + before[2]) / 3.0).squaredNorm(), centroid});
             }
         }
         if (worstAfter > options_.maxAspectRatio && !(worstAfter < worstBefore)) return false;
+        std::sort(centroids.begin(), centroids.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+        for (const auto& c : centroids)
+            if (distanceToSurface(c.second) > options_.maxDistance) return false;
         return true;
     }
 
-    void collapse(uint32_t u, uint32_t v, const Vec3& p) {
+    void collapse(Worker& worker, uint32_t u, uint32_t v, const Vec3& p) {
         mesh_.vertices[u] = p;
         quadric_[u] += quadric_[v];
-        removedVertex_[v] = true;
-        std::vector<uint32_t> kept;
+        removedVertex_[v] = 1;
+        std::vector<uint32_t>& kept = worker.kept;
+        kept.clear();
         for (uint32_t f : facesOf_[u]) {
             const auto& t = mesh_.triangles[f];
-            if (t[0] == v || t[1] == v || t[2] == v) removedFace_[f] = true;
+            if (t[0] == v || t[1] == v || t[2] == v) removedFace_[f] = 1;
             else kept.push_back(f);
         }
         for (uint32_t f : facesOf_[v]) {
             if (removedFace_[f]) continue;
             auto& t = mesh_.triangles[f];
             if (t[0] == u || t[1] == u || t[2] == u) {
-                removedFace_[f] = true;
+                removedFace_[f] = 1;
                 continue;
             }
             for (uint32_t& w : t)
@@ -280,27 +440,28 @@ private:
             kept.push_back(f);
         }
         // Faces removed above may still sit in other vertices' lists.
-        neighbours(v, scratchU_);
-        for (uint32_t w : scratchU_) {
+        neighbours(v, worker.ringU);
+        for (uint32_t w : worker.ringU) {
             auto& list = facesOf_[w];
             list.erase(std::remove_if(list.begin(), list.end(), [&](uint32_t f) { return removedFace_[f]; }), list.end());
         }
-        facesOf_[u] = std::move(kept);
+        facesOf_[u].assign(kept.begin(), kept.end());
         facesOf_[v].clear();
         // Only edges at u changed cost (its quadric and position); other
         // candidates stay queued and are re-validated when popped.
         ++stamp_[u];
-        neighbours(u, scratchU_);
-        for (uint32_t w : scratchU_) push(u, w);
+        neighbours(u, worker.ringU);
+        for (uint32_t w : worker.ringU) push(worker, u, w);
     }
 
-    void push(uint32_t a, uint32_t b) {
+    void push(Worker& worker, uint32_t a, uint32_t b) const {
         Vec3 p;
         if (!placement(a, b, p, false)) return;
-        const Quadric q = quadric_[a] + quadric_[b];
-        queue_.push({std::max(0.0, p.homogeneous().dot(q * p.homogeneous())), a, b, stamp_[a], stamp_[b]});
+        worker.queue.push({float(std::max(0.0, (quadric_[a] + quadric_[b]).error(p))), a, b, stamp_[a] + stamp_[b]});
     }
 
+    // Drops removed faces and vertices; normals from the field, in parallel
+    // (called inside the task arena).
     void compact() {
         std::vector<uint32_t> remap(mesh_.vertices.size(), UINT32_MAX);
         IndexedMesh out;
@@ -311,16 +472,18 @@ private:
                 uint32_t& r = remap[mesh_.triangles[f][k]];
                 if (r == UINT32_MAX) {
                     r = uint32_t(out.vertices.size());
-                    const Vec3& p = mesh_.vertices[mesh_.triangles[f][k]];
-                    out.vertices.push_back(p);
-                    Vec3 g;
-                    field_.valueAndGradient(p, g);
-                    out.normals.push_back(g.norm() > 0 ? Vec3(g.normalized()) : Vec3(0, 1, 0));
+                    out.vertices.push_back(mesh_.vertices[mesh_.triangles[f][k]]);
                 }
                 t[k] = r;
             }
             out.triangles.push_back(t);
         }
+        out.normals.resize(out.vertices.size());
+        tbb::parallel_for(size_t(0), out.vertices.size(), [&](size_t v) {
+            Vec3 g;
+            field_.valueAndGradient(out.vertices[v], g);
+            out.normals[v] = g.norm() > 0 ? Vec3(g.normalized()) : Vec3(0, 1, 0);
+        });
         mesh_ = std::move(out);
     }
 
@@ -330,9 +493,11 @@ private:
     std::vector<std::vector<uint32_t>> facesOf_;
     std::vector<Quadric> quadric_;
     std::vector<uint32_t> stamp_;
-    std::vector<bool> removedVertex_, removedFace_;
-    std::priority_queue<Candidate, std::vector<Candidate>, std::greater<Candidate>> queue_;
-    mutable std::vector<uint32_t> scratchU_, scratchV_;  ///< neighbour lists, reused
+    // Bytes, not std::vector<bool>: blocks write their own vertices' flags
+    // concurrently.
+    std::vector<uint8_t> removedVertex_, removedFace_;
+    std::vector<uint8_t> deferred_;  ///< an edge here waits for the whole-mesh queue
+    std::vector<uint32_t> block_;    ///< the block owning each vertex
 };
 
 }  // namespace

@@ -8,6 +8,12 @@
 // the quadric minimum and projected onto the surface along the gradient, so
 // flat regions coarsen while edges and corners (where quadrics are sharp)
 // stay.
+//
+// Collapses run in parallel over blocks of space first: a block collapses an
+// edge only when every face around it lies inside the block, so blocks never
+// touch the same faces and the result does not depend on the thread count.
+// The edges a block had to leave (those near its walls) are then collapsed
+// by one queue over the whole mesh.
 #pragma once
 
 #include <cstddef>
@@ -21,6 +27,7 @@ struct SimplifyOptions {
     double maxDistance = 1e-3;
     double minFaceNormalCosine = 0.3;  ///< a face may turn by at most ~72 degrees
     double maxAspectRatio = 30.0;      ///< refuse collapses that create slivers
+    int threads = 0;                   ///< 0: all cores
 };
 
 /// Simplifies in place; returns the number of collapses.

@@ -90,6 +90,7 @@ Polygonization polygonize(const FieldProgram& field, const PolygonizeOptions& op
         SimplifyOptions s;
         // Without a tolerance, keep the accuracy marching cubes reached.
         s.maxDistance = options.tolerance > 0 ? options.tolerance : measureAccuracy(m, field).maxCentroidDistance;
+        s.threads = options.threads;
         simplifyMesh(m, field, s);
     }
     result.mesh = std::move(m);
