@@ -71,7 +71,8 @@ constexpr uint32_t kAnyBlock = UINT32_MAX;
 struct Worker {
     uint32_t block = kAnyBlock;
     std::priority_queue<Candidate, std::vector<Candidate>, std::greater<Candidate>> queue;
-    std::vector<uint32_t> ringU, ringV, kept;
+    std::vector<uint32_t> ringU, kept;
+    uint32_t generation = 0;  ///< the last mark this worker gave a vertex
     std::vector<std::pair<double, Vec3>> centroids;  ///< (how far it moved², centroid) of each new face
 };
 
@@ -90,6 +91,7 @@ public:
         stamp_.assign(n, 0);
         removedVertex_.assign(n, 0);
         deferred_.assign(n, 0);
+        mark_.assign(n, 0);
         removedFace_.assign(mesh.triangles.size(), 0);
         std::vector<uint32_t> degree(n, 0);
         for (const auto& t : mesh.triangles)
@@ -115,6 +117,7 @@ public:
         for (double shift : {0.0, 0.5}) {
             const std::vector<std::vector<uint32_t>> seedsOf = assignBlocks(grid, shift, seed);
             std::fill(deferred_.begin(), deferred_.end(), 0);
+            std::fill(mark_.begin(), mark_.end(), 0);
             std::vector<size_t> collapses(seedsOf.size(), 0);
             // Each block owns its vertices and the faces wholly inside it,
             // so no two workers touch the same data.
@@ -136,6 +139,7 @@ public:
             seed.swap(deferred_);
         }
         Worker whole;
+        std::fill(mark_.begin(), mark_.end(), 0);
         for (uint32_t u = 0; u < mesh_.vertices.size(); ++u) {
             if (!seed[u] || removedVertex_[u]) continue;
             neighbours(u, whole.ringU);
@@ -266,13 +270,13 @@ private:
             for (uint32_t w : mesh_.triangles[f])
                 if (w == d) return false;  // c-d exists already: the flip would make a non-manifold edge
         const Vec3 &pa = mesh_.vertices[a], &pb = mesh_.vertices[b], &pc = mesh_.vertices[c], &pd = mesh_.vertices[d];
-        const double before = std::max(triangleAspectRatio(pa, pb, pc), triangleAspectRatio(pb, pa, pd));
+        const double aspect1 = triangleAspectRatio(pa, pb, pc), aspect2 = triangleAspectRatio(pb, pa, pd);
         const double after = std::max(triangleAspectRatio(pa, pd, pc), triangleAspectRatio(pd, pb, pc));
-        if (!(after < before)) return false;
+        if (!(after < std::max(aspect1, aspect2))) return false;
         const Vec3 m1 = (pd - pa).cross(pc - pa), m2 = (pb - pd).cross(pc - pd);
         for (const Vec3& m : {m1, m2}) {
             if (!(m.norm() > 0)) return false;
-            if (!keepsOrientation({pa, pb, pc}, m) || !keepsOrientation({pb, pa, pd}, m)) return false;
+            if (!keepsOrientation({pa, pb, pc}, aspect1, m) || !keepsOrientation({pb, pa, pd}, aspect2, m)) return false;
         }
         if (distanceToSurface((pa + pd + pc) / 3.0) > options_.maxDistance ||
             distanceToSurface((pd + pb + pc) / 3.0) > options_.maxDistance)
@@ -294,15 +298,12 @@ private:
     // A face replacing `before` with normal n does not turn over: it faces
     // the old face's way, or, where the old face is a sliver whose normal is
     // mostly rounding, the surface's own normal (the field's gradient).
-    bool keepsOrientation(const std::array<Vec3, 3>& before, const Vec3& n) const {
-        const Vec3 unit = n.normalized();
-        if (triangleAspectRatio(before[0], before[1], before[2]) <= options_.maxAspectRatio) {
-            const Vec3 n0 = (before[1] - before[0]).cross(before[2] - before[0]);
-            return n0.normalized().dot(unit) >= options_.minFaceNormalCosine;
-        }
-        Vec3 g;
-        field_.valueAndGradient((before[0] + before[1] + before[2]) / 3.0, g);
-        return g.norm() > 0 && g.normalized().dot(unit) >= options_.minFaceNormalCosine;
+    bool keepsOrientation(const std::array<Vec3, 3>& before, double aspectBefore, const Vec3& n) const {
+        Vec3 reference;
+        if (aspectBefore <= options_.maxAspectRatio) reference = (before[1] - before[0]).cross(before[2] - before[0]);
+        else field_.valueAndGradient((before[0] + before[1] + before[2]) / 3.0, reference);
+        const double lengths = std::sqrt(reference.squaredNorm() * n.squaredNorm());
+        return lengths > 0 && reference.dot(n) >= options_.minFaceNormalCosine * lengths;
     }
 
     Quadric faceQuadric(uint32_t f) const {
@@ -367,18 +368,21 @@ private:
 
     bool collapseIsValid(Worker& worker, uint32_t u, uint32_t v, const Vec3& p) const {
         // Link condition: the only common neighbours are the two opposite
-        // vertices of the edge's triangles.
-        std::vector<uint32_t>&nu = worker.ringU, &nv = worker.ringV;
-        neighbours(u, nu);
-        neighbours(v, nv);
-        size_t common = 0;
-        for (size_t i = 0, j = 0; i < nu.size() && j < nv.size();) {
-            if (nu[i] < nv[j]) ++i;
-            else if (nv[j] < nu[i]) ++j;
-            else ++common, ++i, ++j;
-        }
+        // vertices of the edge's triangles. Neighbours are marked with
+        // worker generations (each vertex belongs to one worker per round).
+        const uint32_t aroundU = ++worker.generation, seen = ++worker.generation;
+        size_t degreeU = 0, degreeV = 0, common = 0;
+        for (uint32_t f : facesOf_[u])
+            for (uint32_t w : mesh_.triangles[f])
+                if (w != u && mark_[w] != aroundU) mark_[w] = aroundU, ++degreeU;
+        for (uint32_t f : facesOf_[v])
+            for (uint32_t w : mesh_.triangles[f]) {
+                if (w == v || mark_[w] == seen) continue;
+                if (mark_[w] == aroundU) ++common;
+                mark_[w] = seen, ++degreeV;
+            }
         if (common != 2) return false;
-        if (nu.size() + nv.size() <= 6) return false;  // would collapse a tetrahedron
+        if (degreeU + degreeV <= 6) return false;  // would collapse a tetrahedron
         // Refuse making a sliver, not replacing one by a lesser one: the
         // worst face around the edge after must be fine or better than the
         // worst before (marching cubes leaves fans of slivers at grid corners,
@@ -393,16 +397,17 @@ private:
                 const auto& t = mesh_.triangles[f];
                 const bool hasU = t[0] == u || t[1] == u || t[2] == u;
                 const bool hasV = t[0] == v || t[1] == v || t[2] == v;
-                worstBefore = std::max(worstBefore, aspectRatio(f));
-                if (hasU && hasV) continue;  // disappears
                 std::array<Vec3, 3> before, after;
                 for (int k = 0; k < 3; ++k) {
                     before[k] = mesh_.vertices[t[k]];
                     after[k] = (t[k] == u || t[k] == v) ? p : before[k];
                 }
+                const double aspectBefore = triangleAspectRatio(before[0], before[1], before[2]);
+                worstBefore = std::max(worstBefore, aspectBefore);
+                if (hasU && hasV) continue;  // disappears
                 const Vec3 n1 = (after[1] - after[0]).cross(after[2] - after[0]);
-                if (!(n1.norm() > 0)) return false;
-                if (!keepsOrientation(before, n1)) return false;
+                if (!(n1.squaredNorm() > 0)) return false;
+                if (!keepsOrientation(before, aspectBefore, n1)) return false;
                 worstAfter = std::max(worstAfter, triangleAspectRatio(after[0], after[1], after[2]));
                 const Vec3 centroid = (after[0] + after[1] + after[2]) / 3.0;
                 // The face that moved most is the likeliest to leave the
@@ -439,19 +444,25 @@ private:
                 if (w == v) w = u;
             kept.push_back(f);
         }
-        // Faces removed above may still sit in other vertices' lists.
-        neighbours(v, worker.ringU);
-        for (uint32_t w : worker.ringU) {
-            auto& list = facesOf_[w];
-            list.erase(std::remove_if(list.begin(), list.end(), [&](uint32_t f) { return removedFace_[f]; }), list.end());
+        // The removed faces (those holding both u and v) still sit in the
+        // lists of their third vertices.
+        for (uint32_t f : facesOf_[v]) {
+            if (!removedFace_[f]) continue;
+            for (uint32_t w : mesh_.triangles[f]) {
+                if (w == u || w == v) continue;
+                auto& list = facesOf_[w];
+                list.erase(std::remove_if(list.begin(), list.end(), [&](uint32_t g) { return removedFace_[g]; }), list.end());
+            }
         }
         facesOf_[u].assign(kept.begin(), kept.end());
         facesOf_[v].clear();
         // Only edges at u changed cost (its quadric and position); other
         // candidates stay queued and are re-validated when popped.
         ++stamp_[u];
-        neighbours(u, worker.ringU);
-        for (uint32_t w : worker.ringU) push(worker, u, w);
+        const uint32_t pushed = ++worker.generation;
+        for (uint32_t f : facesOf_[u])
+            for (uint32_t w : mesh_.triangles[f])
+                if (w != u && mark_[w] != pushed) mark_[w] = pushed, push(worker, u, w);
     }
 
     void push(Worker& worker, uint32_t a, uint32_t b) const {
@@ -498,6 +509,9 @@ private:
     std::vector<uint8_t> removedVertex_, removedFace_;
     std::vector<uint8_t> deferred_;  ///< an edge here waits for the whole-mesh queue
     std::vector<uint32_t> block_;    ///< the block owning each vertex
+    // Marks for neighbour sets, written by the worker owning the vertex;
+    // cleared between rounds, whose workers own other vertices.
+    mutable std::vector<uint32_t> mark_;
 };
 
 }  // namespace

@@ -74,3 +74,28 @@ TEST(MeshSimplifier, SliversAreCollapsedOrFlippedAway) {
     EXPECT_EQ(t.eulerCharacteristic, euler);
 }
 
+
+// Blocks of space are simplified in parallel, each touching only the faces
+// wholly inside it, so the mesh is the same whatever the thread count; the
+// mesh is large enough (about 37,000 vertices) to be split into blocks and
+// to leave edges near their walls for the whole-mesh queue.
+TEST(MeshSimplifier, ParallelBlocksGiveTheSameMeshOnAnyThreadCount) {
+    const FieldProgram field = compileField(R"({"type": "polynomial", "preset": "tangle"})");
+    MarchingCubesOptions o;
+    o.resolution = 96;
+    o.sharpFeatures = true;
+    const IndexedMesh input = marchingCubes(field, field.bounds(), o);
+    ASSERT_GT(input.vertices.size(), 8 * 4096u) << "the test needs more than one block";
+    const double tolerance = measureAccuracy(input, field).maxCentroidDistance;
+    std::vector<IndexedMesh> results;
+    for (int threads : {1, 2, 3}) {
+        IndexedMesh m = input;
+        simplifyMesh(m, field, {.maxDistance = tolerance, .threads = threads});
+        results.push_back(std::move(m));
+    }
+    ASSERT_LT(results[0].triangles.size(), input.triangles.size() / 4);
+    for (size_t i = 1; i < results.size(); ++i) {
+        EXPECT_EQ(results[i].triangles, results[0].triangles);
+        EXPECT_EQ(results[i].vertices, results[0].vertices);
+    }
+}
