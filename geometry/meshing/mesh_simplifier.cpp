@@ -70,10 +70,30 @@ constexpr uint32_t kAnyBlock = UINT32_MAX;
 // collapses only edges whose surrounding faces all lie in its block.
 struct Worker {
     uint32_t block = kAnyBlock;
+    // The first candidates, sorted once (cheaper than as many heap pops),
+    // and the heap of those queued after collapses; pop() merges the two.
+    std::vector<Candidate> initial;
+    size_t nextInitial = 0;
     std::priority_queue<Candidate, std::vector<Candidate>, std::greater<Candidate>> queue;
     std::vector<uint32_t> ringU, kept;
     uint32_t generation = 0;  ///< the last mark this worker gave a vertex
     std::vector<std::pair<double, Vec3>> centroids;  ///< (how far it moved², centroid) of each new face
+
+    void sortInitial() {
+        std::sort(initial.begin(), initial.end(), [](const Candidate& a, const Candidate& b) { return a.cost < b.cost; });
+    }
+
+    bool pop(Candidate& c) {
+        if (nextInitial < initial.size() && (queue.empty() || !(initial[nextInitial] > queue.top()))) {
+            c = initial[nextInitial++];
+        } else if (!queue.empty()) {
+            c = queue.top();
+            queue.pop();
+        } else {
+            return false;
+        }
+        return true;
+    }
 };
 
 // Blocks hold about this many vertices (up to 4 x 4 x 4 of them): enough
@@ -91,31 +111,23 @@ public:
         stamp_.assign(n, 0);
         removedVertex_.assign(n, 0);
         deferred_.assign(n, 0);
+        interior_.assign(n, 0);
         mark_.assign(n, 0);
         removedFace_.assign(mesh.triangles.size(), 0);
-        std::vector<uint32_t> degree(n, 0);
-        for (const auto& t : mesh.triangles)
-            for (uint32_t v : t) ++degree[v];
-        for (size_t v = 0; v < n; ++v) facesOf_[v].reserve(degree[v]);
-        for (uint32_t f = 0; f < mesh.triangles.size(); ++f) {
-            const Quadric q = faceQuadric(f);
-            for (uint32_t v : mesh.triangles[f]) {
-                facesOf_[v].push_back(f);
-                quadric_[v] += q;
-            }
-        }
     }
 
     size_t run() {
         size_t total = 0;
         tbb::task_arena arena(options_.threads > 0 ? options_.threads : tbb::task_arena::automatic);
+        arena.execute([&] { buildAdjacency(); });
         // Two rounds over blocks, the second on a grid shifted by half a
         // block and seeded with the edges the first had to leave, so that
         // only edges near the walls of both grids wait for the whole mesh.
         std::vector<uint8_t> seed(mesh_.vertices.size(), 1);
         const BlockGrid grid = blockGrid();
         for (double shift : {0.0, 0.5}) {
-            const std::vector<std::vector<uint32_t>> seedsOf = assignBlocks(grid, shift, seed);
+            std::vector<std::vector<uint32_t>> seedsOf;
+            arena.execute([&] { seedsOf = assignBlocks(grid, shift, seed); });
             std::fill(deferred_.begin(), deferred_.end(), 0);
             std::fill(mark_.begin(), mark_.end(), 0);
             std::vector<size_t> collapses(seedsOf.size(), 0);
@@ -126,12 +138,15 @@ public:
                     Worker worker;
                     worker.block = uint32_t(b);
                     for (uint32_t u : seedsOf[b]) {
-                        neighbours(u, worker.ringU);
-                        for (uint32_t w : worker.ringU) {
-                            if (block_[w] != b) deferred_[u] = 1;
-                            else if (!seed[w] || u < w) push(worker, u, w);
+                        if (!interior_[u]) {
+                            deferred_[u] = 1;
+                            continue;
                         }
+                        neighbours(u, worker.ringU);
+                        for (uint32_t w : worker.ringU)
+                            if (interior_[w] && (!seed[w] || u < w)) push(u, w, worker.initial);
                     }
+                    worker.sortInitial();
                     collapses[b] = drain(worker);
                 });
             });
@@ -144,8 +159,9 @@ public:
             if (!seed[u] || removedVertex_[u]) continue;
             neighbours(u, whole.ringU);
             for (uint32_t w : whole.ringU)
-                if (!seed[w] || u < w) push(whole, u, w);
+                if (!seed[w] || u < w) push(u, w, whole.initial);
         }
+        whole.sortInitial();
         total += drain(whole);
         total += removeSlivers(whole);
         arena.execute([&] { compact(); });
@@ -153,6 +169,25 @@ public:
     }
 
 private:
+    // The faces around each vertex (sorted by a counting pass, then copied
+    // in parallel) and each vertex's quadric, the sum of its faces'.
+    void buildAdjacency() {
+        const size_t n = mesh_.vertices.size();
+        std::vector<uint32_t> start(n + 1, 0);
+        for (const auto& t : mesh_.triangles)
+            for (uint32_t v : t) ++start[v + 1];
+        for (size_t v = 0; v < n; ++v) start[v + 1] += start[v];
+        std::vector<uint32_t> faces(start[n]), next(start.begin(), start.end() - 1);
+        for (uint32_t f = 0; f < mesh_.triangles.size(); ++f)
+            for (uint32_t v : mesh_.triangles[f]) faces[next[v]++] = f;
+        aspect_.resize(mesh_.triangles.size());
+        tbb::parallel_for(size_t(0), mesh_.triangles.size(), [&](size_t f) { aspect_[f] = computeAspectRatio(uint32_t(f)); });
+        tbb::parallel_for(size_t(0), n, [&](size_t v) {
+            facesOf_[v].assign(faces.begin() + start[v], faces.begin() + start[v + 1]);
+            for (uint32_t f : facesOf_[v]) quadric_[v] += faceQuadric(f);
+        });
+    }
+
     struct BlockGrid {
         Vec3 lo, cellsPerUnit;
         int perAxis;
@@ -183,14 +218,22 @@ private:
             block_[v] = uint32_t((cell[0] * cells + cell[1]) * cells + cell[2]);
             if (seed[v]) seedsOf[block_[v]].push_back(v);
         }
+        // A vertex whose faces lie in its block stays so through the round:
+        // its block's collapses only merge neighbourhoods inside the block,
+        // and no other block touches it.
+        tbb::parallel_for(size_t(0), mesh_.vertices.size(), [&](size_t v) {
+            bool inside = true;
+            for (uint32_t f : facesOf_[v])
+                for (uint32_t x : mesh_.triangles[f]) inside = inside && block_[x] == block_[v];
+            interior_[v] = inside;
+        });
         return seedsOf;
     }
 
     size_t drain(Worker& worker) {
         size_t collapses = 0;
-        while (!worker.queue.empty()) {
-            const Candidate c = worker.queue.top();
-            worker.queue.pop();
+        Candidate c;
+        while (worker.pop(c)) {
             if (removedVertex_[c.u] || removedVertex_[c.v] || stamp_[c.u] + stamp_[c.v] != c.stamps) continue;
             if (!ownsNeighbourhood(worker, c.u, c.v)) continue;
             Vec3 position;
@@ -204,19 +247,13 @@ private:
 
     // Whether every face around u and v lies in the worker's block; if not,
     // the edge waits for the whole-mesh queue.
-    bool ownsNeighbourhood(Worker& worker, uint32_t u, uint32_t v) {
-        if (worker.block == kAnyBlock) return true;
-        for (uint32_t w : {u, v})
-            for (uint32_t f : facesOf_[w])
-                for (uint32_t x : mesh_.triangles[f])
-                    if (block_[x] != worker.block) {
-                        deferred_[u] = deferred_[v] = 1;
-                        return false;
-                    }
-        return true;
+    bool ownsNeighbourhood(const Worker& worker, uint32_t u, uint32_t v) {
+        if (worker.block == kAnyBlock || (interior_[u] && interior_[v])) return true;
+        deferred_[u] = deferred_[v] = 1;
+        return false;
     }
 
-    double aspectRatio(uint32_t f) const {
+    double computeAspectRatio(uint32_t f) const {
         const auto& t = mesh_.triangles[f];
         return triangleAspectRatio(mesh_.vertices[t[0]], mesh_.vertices[t[1]], mesh_.vertices[t[2]]);
     }
@@ -230,7 +267,7 @@ private:
         for (int round = 0; round < 4; ++round) {
             size_t changed = 0;
             for (uint32_t f = 0; f < mesh_.triangles.size(); ++f) {
-                if (removedFace_[f] || !(aspectRatio(f) > options_.maxAspectRatio)) continue;
+                if (removedFace_[f] || !(aspect_[f] > options_.maxAspectRatio)) continue;
                 const auto t = mesh_.triangles[f];
                 int shortest = 0, longest = 0;
                 double lengths[3];
@@ -283,6 +320,8 @@ private:
             return false;
         mesh_.triangles[f1] = {a, d, c};
         mesh_.triangles[f2] = {d, b, c};
+        aspect_[f1] = computeAspectRatio(f1);
+        aspect_[f2] = computeAspectRatio(f2);
         auto drop = [&](uint32_t v, uint32_t f) {
             auto& list = facesOf_[v];
             list.erase(std::remove(list.begin(), list.end(), f), list.end());
@@ -402,7 +441,7 @@ private:
                     before[k] = mesh_.vertices[t[k]];
                     after[k] = (t[k] == u || t[k] == v) ? p : before[k];
                 }
-                const double aspectBefore = triangleAspectRatio(before[0], before[1], before[2]);
+                const double aspectBefore = aspect_[f];
                 worstBefore = std::max(worstBefore, aspectBefore);
                 if (hasU && hasV) continue;  // disappears
                 const Vec3 n1 = (after[1] - after[0]).cross(after[2] - after[0]);
@@ -456,6 +495,7 @@ private:
         }
         facesOf_[u].assign(kept.begin(), kept.end());
         facesOf_[v].clear();
+        for (uint32_t f : facesOf_[u]) aspect_[f] = computeAspectRatio(f);
         // Only edges at u changed cost (its quadric and position); other
         // candidates stay queued and are re-validated when popped.
         ++stamp_[u];
@@ -465,10 +505,19 @@ private:
                 if (w != u && mark_[w] != pushed) mark_[w] = pushed, push(worker, u, w);
     }
 
-    void push(Worker& worker, uint32_t a, uint32_t b) const {
+    bool candidate(uint32_t a, uint32_t b, Candidate& c) const {
         Vec3 p;
-        if (!placement(a, b, p, false)) return;
-        worker.queue.push({float(std::max(0.0, (quadric_[a] + quadric_[b]).error(p))), a, b, stamp_[a] + stamp_[b]});
+        if (!placement(a, b, p, false)) return false;
+        c = {float(std::max(0.0, (quadric_[a] + quadric_[b]).error(p))), a, b, stamp_[a] + stamp_[b]};
+        return true;
+    }
+
+    void push(Worker& worker, uint32_t a, uint32_t b) const {
+        if (Candidate c; candidate(a, b, c)) worker.queue.push(c);
+    }
+
+    void push(uint32_t a, uint32_t b, std::vector<Candidate>& list) const {
+        if (Candidate c; candidate(a, b, c)) list.push_back(c);
     }
 
     // Drops removed faces and vertices; normals from the field, in parallel
@@ -509,6 +558,8 @@ private:
     std::vector<uint8_t> removedVertex_, removedFace_;
     std::vector<uint8_t> deferred_;  ///< an edge here waits for the whole-mesh queue
     std::vector<uint32_t> block_;    ///< the block owning each vertex
+    std::vector<uint8_t> interior_;  ///< all faces around the vertex lie in its block
+    std::vector<double> aspect_;     ///< each face's aspect ratio, kept current
     // Marks for neighbour sets, written by the worker owning the vertex;
     // cleared between rounds, whose workers own other vertices.
     mutable std::vector<uint32_t> mark_;
