@@ -444,10 +444,14 @@ private:
                 const double aspectBefore = aspect_[f];
                 worstBefore = std::max(worstBefore, aspectBefore);
                 if (hasU && hasV) continue;  // disappears
-                const Vec3 n1 = (after[1] - after[0]).cross(after[2] - after[0]);
-                if (!(n1.squaredNorm() > 0)) return false;
+                const Vec3 e0 = after[1] - after[0], e1 = after[2] - after[1], e2 = after[0] - after[2];
+                const Vec3 n1 = e0.cross(-e2);
+                const double area2 = n1.norm();
+                if (!(area2 > 0)) return false;
                 if (!keepsOrientation(before, aspectBefore, n1)) return false;
-                worstAfter = std::max(worstAfter, triangleAspectRatio(after[0], after[1], after[2]));
+                // triangleAspectRatio, with the cross product above
+                const double longest = std::max({e0.squaredNorm(), e1.squaredNorm(), e2.squaredNorm()});
+                worstAfter = std::max(worstAfter, longest / area2 * (std::sqrt(3.0) / 2.0));
                 const Vec3 centroid = (after[0] + after[1] + after[2]) / 3.0;
                 // The face that moved most is the likeliest to leave the
                 // tolerance: ask it first.
