@@ -12,6 +12,7 @@
 #include <tbb/parallel_for.h>
 
 #include "geometry/tracing/blob_cells.h"
+#include "geometry/tracing/polynomial_cells.h"
 #include "geometry/tracing/mpu_cells.h"
 #include "geometry/tracing/variational_cells.h"
 
@@ -19,7 +20,7 @@ namespace isotrace::geometry {
 
 std::vector<std::shared_ptr<const CellAccelerator>> defaultCellAccelerators() {
     return {std::make_shared<VariationalCellAccelerator>(), std::make_shared<MpuCellAccelerator>(),
-            std::make_shared<BlobCellAccelerator>()};
+            std::make_shared<BlobCellAccelerator>(), std::make_shared<PolynomialCellAccelerator>()};
 }
 
 TraceCounters& threadTraceCounters() {

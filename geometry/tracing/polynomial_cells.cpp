@@ -1,0 +1,160 @@
+#include "geometry/tracing/polynomial_cells.h"
+
+#include <vector>
+
+#include "geometry/bernstein_root.h"
+#include "geometry/content_hash.h"
+#include "geometry/fields/polynomial.h"
+
+namespace isotrace::geometry {
+
+namespace {
+
+// The polynomial restricted to a segment x(u) = x0 + u D, u in [0, 1], in
+// monomials of u: each term's powers of the three linear factors, multiplied
+// out (the degree bounds every product, so nothing is truncated).
+template <int Degree>
+Monomials<Degree> alongSegment(const std::vector<PolynomialTerm>& terms, const std::array<int, 3>& maxPower,
+                               const Vec3& x0, const Vec3& D) {
+    // powers[axis][k] = (x0_axis + u D_axis)^k
+    std::array<std::array<Monomials<Degree>, Degree + 1>, 3> powers{};
+    for (int axis = 0; axis < 3; ++axis) {
+        powers[axis][0] = {};
+        powers[axis][0][0] = 1.0;
+        for (int k = 1; k <= maxPower[axis]; ++k) {
+            const Monomials<Degree>& previous = powers[axis][k - 1];
+            Monomials<Degree>& next = powers[axis][k];
+            next = {};
+            for (int i = 0; i < k; ++i) {
+                next[i] += previous[i] * x0[axis];
+                next[i + 1] += previous[i] * D[axis];
+            }
+        }
+    }
+    Monomials<Degree> sum{};
+    for (const PolynomialTerm& term : terms) {
+        const auto& [a, b, c] = term.powers;
+        const Monomials<Degree>&px = powers[0][a], &py = powers[1][b], &pz = powers[2][c];
+        // (px py pz) coefficient by coefficient, only up to each factor's degree.
+        Monomials<Degree> xy{};
+        for (int i = 0; i <= a; ++i)
+            for (int j = 0; j <= b; ++j) xy[i + j] += px[i] * py[j];
+        for (int i = 0; i <= a + b; ++i)
+            for (int k = 0; k <= c; ++k) sum[i + k] += term.coefficient * xy[i] * pz[k];
+    }
+    return sum;
+}
+
+// The polynomial along the ray a thread traced last: a ray crosses many
+// parts of the same surface, and each needs only its own interval of it.
+template <int Degree>
+struct RayPolynomial {
+    uint64_t surface = 0;  ///< content key of the polynomial and its placement
+    Vec3 origin = Vec3::Zero(), direction = Vec3::Zero();
+    double expandedAt = 0.0;  ///< t of the expansion point (near the surface, for conditioning)
+    Monomials<Degree> p{};    ///< in s = t - expandedAt
+};
+
+template <int Degree>
+class PolynomialCellTracer final : public CellTracer {
+public:
+    PolynomialCellTracer(const PolynomialField& field, const LeafPlacement& placement, std::vector<Box3> parts,
+                         uint64_t surfaceKey)
+        : field_(field), placement_(placement), parts_(std::move(parts)), surfaceKey_(surfaceKey) {
+        for (const PolynomialTerm& t : field.polynomial.terms())
+            for (int axis = 0; axis < 3; ++axis) maxPower_[axis] = std::max(maxPower_[axis], t.powers[axis]);
+        centre_ = field.domain.center();
+    }
+
+    CellTraceResult trace(uint32_t part, const Vec3& origin, const Vec3& direction, double t0, double t1,
+                          const TraceSettings& settings) const override {
+        Vec3 o, d;
+        rayInLeafFrame(placement_, origin, direction, o, d);
+        if (!placement_.identity && !clipRayToBox(parts_[part], o, d, t0, t1)) return {};
+        CellTraceResult r;
+        if (!(t1 > t0)) return r;
+        thread_local RayPolynomial<Degree> ray;
+        if (ray.surface != surfaceKey_ || ray.origin != o || ray.direction != d) {
+            ray.surface = surfaceKey_;
+            ray.origin = o;
+            ray.direction = d;
+            // Expanded where the ray passes closest to the domain's centre:
+            // monomials in t about a far origin would cancel badly.
+            ray.expandedAt = (centre_ - o).dot(d) / d.squaredNorm();
+            ray.p = alongSegment<Degree>(field_.polynomial.terms(), maxPower_, o + ray.expandedAt * d, d);
+        }
+        BernsteinRootStats stats;
+        const auto s = firstBernsteinRoot<Degree>(ray.p, t0 - ray.expandedAt, t1 - ray.expandedAt,
+                                                  settings.epsilon / direction.norm(), &stats);
+        r.steps = 1 + stats.subdivisions;
+        r.evaluations = uint64_t(r.steps + stats.evaluations);
+        if (!s) return r;
+        r.hit = true;
+        r.t = ray.expandedAt + *s;
+        Vec3 gradient;
+        field_.valueAndGradient(o + r.t * d, gradient);
+        r.gradientKnown = true;
+        r.gradient = worldGradient(placement_, gradient);
+        return r;
+    }
+
+private:
+    PolynomialField field_;
+    LeafPlacement placement_;
+    std::vector<Box3> parts_;  ///< in the leaf's frame
+    uint64_t surfaceKey_;
+    std::array<int, 3> maxPower_{0, 0, 0};
+    Vec3 centre_;
+};
+
+template <int Degree>
+std::unique_ptr<const CellTracer> makeTracer(const PolynomialField& field, const LeafPlacement& placement,
+                                             std::vector<Box3> parts, uint64_t surfaceKey) {
+    return std::make_unique<PolynomialCellTracer<Degree>>(field, placement, std::move(parts), surfaceKey);
+}
+
+// Every cell of one surface gets the same key, whatever program copy it
+// holds: the terms, the domain and the placement, hashed.
+uint64_t surfaceKey(const PolynomialField& field, const LeafPlacement& placement) {
+    auto bytes = [](const auto& value) { return std::string_view(reinterpret_cast<const char*>(&value), sizeof value); };
+    uint64_t h = kFnvOffsetBasis;
+    for (const PolynomialTerm& t : field.polynomial.terms()) h = fnv1a64(bytes(t.powers), fnv1a64(bytes(t.coefficient), h));
+    h = fnv1a64(bytes(field.domain.lower), fnv1a64(bytes(field.domain.upper), h));
+    h = fnv1a64(bytes(placement.linear), fnv1a64(bytes(placement.offset), fnv1a64(bytes(placement.valueScale), h)));
+    return h | 1;  // never 0, the empty cache's key
+}
+
+}  // namespace
+
+std::optional<CellAcceleration> PolynomialCellAccelerator::accelerate(const FieldProgram& program, const Box3& box,
+                                                                      double) const {
+    const FieldLeaf* leaf = program.singleLeaf();
+    const auto* polynomial = leaf ? std::get_if<PolynomialField>(&leaf->shape) : nullptr;
+    if (!polynomial) return std::nullopt;
+    const int degree = polynomial->polynomial.degree();
+    if (degree < 1 || degree > kMaxDegree) return std::nullopt;
+    const LeafPlacement& placement = leaf->placement;
+    const Box3 leafBox = placement.identity ? box : transformBox(placement.linear, placement.offset, box);
+    // One part: the union of the cell's grandchildren whose interval range
+    // holds zero (as the general tracer shrinks its cells). Splitting it
+    // further made rays cross more parts, each a call from Embree.
+    Box3 part;
+    for (int i = 0; i < 8; ++i) {
+        const Box3 child = leafBox.octant(i);
+        if (!polynomial->range(child).containsZero()) continue;
+        for (int k = 0; k < 8; ++k)
+            if (polynomial->range(child.octant(k)).containsZero()) part.extend(child.octant(k));
+    }
+    std::vector<Box3> parts;
+    if (!part.isEmpty()) parts.push_back(part);
+    CellAcceleration a;
+    a.parts = worldPartBoxes(placement, parts, box);
+    const uint64_t key = surfaceKey(*polynomial, placement);
+    if (degree <= 2) a.tracer = makeTracer<2>(*polynomial, placement, std::move(parts), key);
+    else if (degree <= 4) a.tracer = makeTracer<4>(*polynomial, placement, std::move(parts), key);
+    else if (degree <= 6) a.tracer = makeTracer<6>(*polynomial, placement, std::move(parts), key);
+    else a.tracer = makeTracer<8>(*polynomial, placement, std::move(parts), key);
+    return a;
+}
+
+}  // namespace isotrace::geometry
