@@ -10,40 +10,80 @@ namespace isotrace::geometry {
 
 namespace {
 
-// The polynomial restricted to a segment x(u) = x0 + u D, u in [0, 1], in
-// monomials of u: each term's powers of the three linear factors, multiplied
-// out (the degree bounds every product, so nothing is truncated).
+// A polynomial split for restriction to lines: the constant, the terms in
+// one variable as dense coefficients per axis (Goursat's tangle and its kin
+// have no others), and the terms mixing variables.
 template <int Degree>
-Monomials<Degree> alongSegment(const std::vector<PolynomialTerm>& terms, const std::array<int, 3>& maxPower,
-                               const Vec3& x0, const Vec3& D) {
-    // powers[axis][k] = (x0_axis + u D_axis)^k
-    std::array<std::array<Monomials<Degree>, Degree + 1>, 3> powers{};
-    for (int axis = 0; axis < 3; ++axis) {
-        powers[axis][0] = {};
-        powers[axis][0][0] = 1.0;
-        for (int k = 1; k <= maxPower[axis]; ++k) {
-            const Monomials<Degree>& previous = powers[axis][k - 1];
-            Monomials<Degree>& next = powers[axis][k];
-            next = {};
-            for (int i = 0; i < k; ++i) {
-                next[i] += previous[i] * x0[axis];
-                next[i + 1] += previous[i] * D[axis];
+struct SplitPolynomial {
+    double constant = 0.0;
+    std::array<Monomials<Degree>, 3> univariate{};  ///< coefficient of x_a^k at [a][k], k >= 1
+    std::array<int, 3> univariateDegree{0, 0, 0};
+    std::vector<PolynomialTerm> mixed;
+    std::array<int, 3> mixedMaxPower{0, 0, 0};
+
+    explicit SplitPolynomial(const Polynomial& p) {
+        for (const PolynomialTerm& t : p.terms()) {
+            const int variables = (t.powers[0] > 0) + (t.powers[1] > 0) + (t.powers[2] > 0);
+            if (variables == 0) {
+                constant += t.coefficient;
+            } else if (variables == 1) {
+                const int axis = t.powers[0] > 0 ? 0 : t.powers[1] > 0 ? 1 : 2;
+                univariate[axis][t.powers[axis]] += t.coefficient;
+                univariateDegree[axis] = std::max(univariateDegree[axis], t.powers[axis]);
+            } else {
+                mixed.push_back(t);
+                for (int axis = 0; axis < 3; ++axis) mixedMaxPower[axis] = std::max(mixedMaxPower[axis], t.powers[axis]);
             }
         }
     }
-    Monomials<Degree> sum{};
-    for (const PolynomialTerm& term : terms) {
-        const auto& [a, b, c] = term.powers;
-        const Monomials<Degree>&px = powers[0][a], &py = powers[1][b], &pz = powers[2][c];
-        // (px py pz) coefficient by coefficient, only up to each factor's degree.
-        Monomials<Degree> xy{};
-        for (int i = 0; i <= a; ++i)
-            for (int j = 0; j <= b; ++j) xy[i + j] += px[i] * py[j];
-        for (int i = 0; i <= a + b; ++i)
-            for (int k = 0; k <= c; ++k) sum[i + k] += term.coefficient * xy[i] * pz[k];
+
+    /// The polynomial along x(s) = x0 + s D, in monomials of s (the degree
+    /// bounds every product, so nothing is truncated).
+    Monomials<Degree> alongLine(const Vec3& x0, const Vec3& D) const {
+        Monomials<Degree> sum{};
+        sum[0] = constant;
+        // One-variable terms by Horner's rule on polynomials:
+        // g = (...(c_n (x0 + sD) + c_{n-1}) (x0 + sD) + ...) (x0 + sD).
+        for (int axis = 0; axis < 3; ++axis) {
+            const int n = univariateDegree[axis];
+            if (n == 0) continue;
+            Monomials<Degree> g{};
+            g[0] = univariate[axis][n];
+            for (int k = n - 1; k >= 0; --k) {
+                // g *= (x0 + s D); g += c_k (c_0 of a one-variable part is 0)
+                for (int i = n - k; i >= 1; --i) g[i] = g[i] * x0[axis] + g[i - 1] * D[axis];
+                g[0] = g[0] * x0[axis] + (k > 0 ? univariate[axis][k] : 0.0);
+            }
+            for (int i = 0; i <= n; ++i) sum[i] += g[i];
+        }
+        if (mixed.empty()) return sum;
+        // Mixed terms: powers of each linear factor, then their products.
+        std::array<std::array<Monomials<Degree>, Degree + 1>, 3> powers;
+        for (int axis = 0; axis < 3; ++axis) {
+            powers[axis][0] = {};
+            powers[axis][0][0] = 1.0;
+            for (int k = 1; k <= mixedMaxPower[axis]; ++k) {
+                const Monomials<Degree>& previous = powers[axis][k - 1];
+                Monomials<Degree>& next = powers[axis][k];
+                next = {};
+                for (int i = 0; i < k; ++i) {
+                    next[i] += previous[i] * x0[axis];
+                    next[i + 1] += previous[i] * D[axis];
+                }
+            }
+        }
+        for (const PolynomialTerm& term : mixed) {
+            const auto& [a, b, c] = term.powers;
+            const Monomials<Degree>&px = powers[0][a], &py = powers[1][b], &pz = powers[2][c];
+            Monomials<Degree> xy{};
+            for (int i = 0; i <= a; ++i)
+                for (int j = 0; j <= b; ++j) xy[i + j] += px[i] * py[j];
+            for (int i = 0; i <= a + b; ++i)
+                for (int k = 0; k <= c; ++k) sum[i + k] += term.coefficient * xy[i] * pz[k];
+        }
+        return sum;
     }
-    return sum;
-}
+};
 
 // The polynomial along the ray a thread traced last: a ray crosses many
 // parts of the same surface, and each needs only its own interval of it.
@@ -60,9 +100,7 @@ class PolynomialCellTracer final : public CellTracer {
 public:
     PolynomialCellTracer(const PolynomialField& field, const LeafPlacement& placement, std::vector<Box3> parts,
                          uint64_t surfaceKey)
-        : field_(field), placement_(placement), parts_(std::move(parts)), surfaceKey_(surfaceKey) {
-        for (const PolynomialTerm& t : field.polynomial.terms())
-            for (int axis = 0; axis < 3; ++axis) maxPower_[axis] = std::max(maxPower_[axis], t.powers[axis]);
+        : field_(field), split_(field.polynomial), placement_(placement), parts_(std::move(parts)), surfaceKey_(surfaceKey) {
         centre_ = field.domain.center();
     }
 
@@ -81,7 +119,7 @@ public:
             // Expanded where the ray passes closest to the domain's centre:
             // monomials in t about a far origin would cancel badly.
             ray.expandedAt = (centre_ - o).dot(d) / d.squaredNorm();
-            ray.p = alongSegment<Degree>(field_.polynomial.terms(), maxPower_, o + ray.expandedAt * d, d);
+            ray.p = split_.alongLine(o + ray.expandedAt * d, d);
         }
         BernsteinRootStats stats;
         const auto s = firstBernsteinRoot<Degree>(ray.p, t0 - ray.expandedAt, t1 - ray.expandedAt,
@@ -100,10 +138,10 @@ public:
 
 private:
     PolynomialField field_;
+    SplitPolynomial<Degree> split_;
     LeafPlacement placement_;
     std::vector<Box3> parts_;  ///< in the leaf's frame
     uint64_t surfaceKey_;
-    std::array<int, 3> maxPower_{0, 0, 0};
     Vec3 centre_;
 };
 

@@ -30,3 +30,15 @@ TEST(PolynomialCells, SexticAgreesWithMarching) {
         [1, 0, 0, 6], [-1, 0, 0, 0]], "domain": [[-1.5, -1.5, -1.5], [1.5, 1.5, 1.5]]})");
     isotrace::testing::expectSameHitsAsMarching(program, 1500, 300, 0);
 }
+
+// Terms mixing variables take the general expansion: Taubin's heart (degree
+// 6, with x^2 y^3) and the two-holed pretzel (degree 8, with x^2 y^2).
+TEST(PolynomialCells, HeartAgreesWithMarching) {
+    const FieldProgram program = compileField(R"({"type": "polynomial", "preset": "heart"})");
+    isotrace::testing::expectSameHitsAsMarching(program, 1500, 300, 5);  // nearly convex: few rays return
+}
+
+TEST(PolynomialCells, PretzelOfDegreeEightAgreesWithMarching) {
+    const FieldProgram program = compileField(R"({"type": "polynomial", "preset": "pretzel2"})");
+    isotrace::testing::expectSameHitsAsMarching(program, 1500, 200, 20);
+}
