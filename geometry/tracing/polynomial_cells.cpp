@@ -42,19 +42,17 @@ struct SplitPolynomial {
     Monomials<Degree> alongLine(const Vec3& x0, const Vec3& D) const {
         Monomials<Degree> sum{};
         sum[0] = constant;
-        // One-variable terms by Horner's rule on polynomials:
-        // g = (...(c_n (x0 + sD) + c_{n-1}) (x0 + sD) + ...) (x0 + sD).
+        // One-variable terms: g(x0 + sD) = sum_j g^(j)(x0) / j! (sD)^j, the
+        // Taylor coefficients at x0 by repeated synthetic division.
         for (int axis = 0; axis < 3; ++axis) {
             const int n = univariateDegree[axis];
             if (n == 0) continue;
-            Monomials<Degree> g{};
-            g[0] = univariate[axis][n];
-            for (int k = n - 1; k >= 0; --k) {
-                // g *= (x0 + s D); g += c_k (c_0 of a one-variable part is 0)
-                for (int i = n - k; i >= 1; --i) g[i] = g[i] * x0[axis] + g[i - 1] * D[axis];
-                g[0] = g[0] * x0[axis] + (k > 0 ? univariate[axis][k] : 0.0);
-            }
-            for (int i = 0; i <= n; ++i) sum[i] += g[i];
+            Monomials<Degree> c = univariate[axis];
+            const double x = x0[axis];
+            for (int i = 0; i < n; ++i)
+                for (int k = n - 1; k >= i; --k) c[k] += x * c[k + 1];
+            double power = 1.0;
+            for (int j = 0; j <= n; ++j, power *= D[axis]) sum[j] += c[j] * power;
         }
         if (mixed.empty()) return sum;
         // Mixed terms: powers of each linear factor, then their products.
