@@ -37,7 +37,15 @@ constexpr double kTighteningVolumeRatio = 0.75;
 struct RefinedLevel {
     std::vector<Box3> boxes;
     std::vector<std::shared_ptr<FieldProgram>> programs;
+    std::vector<uint8_t> final;  ///< not split further (see refineCells)
 };
+
+// Cells of one distance-bounded primitive stop splitting at this depth (8^3
+// cells over the bounds), those of two combined (up to four instructions:
+// a difference) one level deeper: deeper cells cost start-up (the CSG
+// preview scene loaded in 0.10 s at depth 6, 0.02 s at 4) and no render time.
+constexpr int kMinimumDepthOfDistanceCells = 3;
+constexpr size_t kSmallDistanceProgram = 4;
 
 // Refine level by level, keeping only cells whose range holds zero. Each
 // cell carries its field pruned to its box (exact there), so a child's
@@ -48,10 +56,11 @@ struct RefinedLevel {
 // order.
 RefinedLevel refineCells(const Box3& root, const FieldProgram& field, const ImplicitSurfaceOptions& options) {
     using Program = std::shared_ptr<FieldProgram>;
-    RefinedLevel level{{root}, {std::make_shared<FieldProgram>(field)}};
+    RefinedLevel level{{root}, {std::make_shared<FieldProgram>(field)}, {0}};
     for (int depth = 0; depth < options.maxDepth; ++depth) {
         std::vector<std::array<Program, 8>> children(level.boxes.size());
         tbb::parallel_for(size_t(0), level.boxes.size(), [&](size_t i) {
+            if (level.final[i]) return;
             const FieldProgram& program = *level.programs[i];
             for (int k = 0; k < 8; ++k) {
                 const Box3 child = level.boxes[i].octant(k);
@@ -64,13 +73,34 @@ RefinedLevel refineCells(const Box3& root, const FieldProgram& field, const Impl
             }
         });
         RefinedLevel next;
-        for (size_t i = 0; i < level.boxes.size(); ++i)
+        for (size_t i = 0; i < level.boxes.size(); ++i) {
+            if (level.final[i]) {
+                next.boxes.push_back(level.boxes[i]);
+                next.programs.push_back(level.programs[i]);  // shared: `level` stands if `next` is over budget
+                next.final.push_back(1);
+                continue;
+            }
             for (int k = 0; k < 8; ++k)
                 if (children[i][k]) {
                     next.boxes.push_back(level.boxes[i].octant(k));
                     next.programs.push_back(std::move(children[i][k]));
+                    next.final.push_back(0);
                 }
+        }
         if (next.boxes.size() > options.cellBudget) break;
+        // A cell whose field is a distance bound there (Lipschitz 1, to the
+        // estimates' safety margin) and small is final: sphere tracing
+        // already steps by its value, and smaller cells would not tighten the
+        // bound; they would only prune, which pays for programs of more than
+        // two primitives.
+        if (depth + 1 >= kMinimumDepthOfDistanceCells)
+            tbb::parallel_for(size_t(0), next.boxes.size(), [&](size_t i) {
+                const FieldProgram& program = *next.programs[i];
+                const size_t allowed = depth + 1 >= kMinimumDepthOfDistanceCells + 1 ? kSmallDistanceProgram : 1;
+                if (!next.final[i] && program.instructionCount() <= allowed &&
+                    program.estimate(next.boxes[i]).lipschitz <= 1.0 + 1e-9)
+                    next.final[i] = 1;
+            });
         level = std::move(next);
     }
     return level;
