@@ -93,31 +93,43 @@ struct RayPolynomial {
     Monomials<Degree> p{};    ///< in s = t - expandedAt
 };
 
+// What every cell of one surface shares (built once, not per cell: copies
+// of the polynomial were most of the tangle's start-up).
+template <int Degree>
+struct PolynomialSurface {
+    PolynomialField field;
+    SplitPolynomial<Degree> split;
+    LeafPlacement placement;
+    uint64_t key;  ///< content key (surfaceKey)
+    Vec3 centre;   ///< of the domain, where rays' polynomials are expanded
+
+    PolynomialSurface(const PolynomialField& f, const LeafPlacement& p, uint64_t k)
+        : field(f), split(f.polynomial), placement(p), key(k), centre(f.domain.center()) {}
+};
+
 template <int Degree>
 class PolynomialCellTracer final : public CellTracer {
 public:
-    PolynomialCellTracer(const PolynomialField& field, const LeafPlacement& placement, std::vector<Box3> parts,
-                         uint64_t surfaceKey)
-        : field_(field), split_(field.polynomial), placement_(placement), parts_(std::move(parts)), surfaceKey_(surfaceKey) {
-        centre_ = field.domain.center();
-    }
+    PolynomialCellTracer(std::shared_ptr<const PolynomialSurface<Degree>> surface, const Box3& part)
+        : surface_(std::move(surface)), part_(part) {}
 
-    CellTraceResult trace(uint32_t part, const Vec3& origin, const Vec3& direction, double t0, double t1,
+    CellTraceResult trace(uint32_t, const Vec3& origin, const Vec3& direction, double t0, double t1,
                           const TraceSettings& settings) const override {
+        const PolynomialSurface<Degree>& surface = *surface_;
         Vec3 o, d;
-        rayInLeafFrame(placement_, origin, direction, o, d);
-        if (!placement_.identity && !clipRayToBox(parts_[part], o, d, t0, t1)) return {};
+        rayInLeafFrame(surface.placement, origin, direction, o, d);
+        if (!surface.placement.identity && !clipRayToBox(part_, o, d, t0, t1)) return {};
         CellTraceResult r;
         if (!(t1 > t0)) return r;
         thread_local RayPolynomial<Degree> ray;
-        if (ray.surface != surfaceKey_ || ray.origin != o || ray.direction != d) {
-            ray.surface = surfaceKey_;
+        if (ray.surface != surface.key || ray.origin != o || ray.direction != d) {
+            ray.surface = surface.key;
             ray.origin = o;
             ray.direction = d;
             // Expanded where the ray passes closest to the domain's centre:
             // monomials in t about a far origin would cancel badly.
-            ray.expandedAt = (centre_ - o).dot(d) / d.squaredNorm();
-            ray.p = split_.alongLine(o + ray.expandedAt * d, d);
+            ray.expandedAt = (surface.centre - o).dot(d) / d.squaredNorm();
+            ray.p = surface.split.alongLine(o + ray.expandedAt * d, d);
         }
         BernsteinRootStats stats;
         const auto s = firstBernsteinRoot<Degree>(ray.p, t0 - ray.expandedAt, t1 - ray.expandedAt,
@@ -128,26 +140,16 @@ public:
         r.hit = true;
         r.t = ray.expandedAt + *s;
         Vec3 gradient;
-        field_.valueAndGradient(o + r.t * d, gradient);
+        surface.field.valueAndGradient(o + r.t * d, gradient);
         r.gradientKnown = true;
-        r.gradient = worldGradient(placement_, gradient);
+        r.gradient = worldGradient(surface.placement, gradient);
         return r;
     }
 
 private:
-    PolynomialField field_;
-    SplitPolynomial<Degree> split_;
-    LeafPlacement placement_;
-    std::vector<Box3> parts_;  ///< in the leaf's frame
-    uint64_t surfaceKey_;
-    Vec3 centre_;
+    std::shared_ptr<const PolynomialSurface<Degree>> surface_;
+    Box3 part_;  ///< in the leaf's frame
 };
-
-template <int Degree>
-std::unique_ptr<const CellTracer> makeTracer(const PolynomialField& field, const LeafPlacement& placement,
-                                             std::vector<Box3> parts, uint64_t surfaceKey) {
-    return std::make_unique<PolynomialCellTracer<Degree>>(field, placement, std::move(parts), surfaceKey);
-}
 
 // Every cell of one surface gets the same key, whatever program copy it
 // holds: the terms, the domain and the placement, hashed.
@@ -162,6 +164,20 @@ uint64_t surfaceKey(const PolynomialField& field, const LeafPlacement& placement
 
 }  // namespace
 
+template <int Degree>
+std::unique_ptr<const CellTracer> PolynomialCellAccelerator::tracerFor(const PolynomialField& field,
+                                                                      const LeafPlacement& placement, uint64_t key,
+                                                                      const Box3& part) const {
+    std::shared_ptr<const void>* shared;
+    {
+        const std::lock_guard<std::mutex> lock(mutex_);
+        shared = &surfaces_[key];
+        if (!*shared) *shared = std::make_shared<const PolynomialSurface<Degree>>(field, placement, key);
+    }
+    return std::make_unique<PolynomialCellTracer<Degree>>(
+        std::static_pointer_cast<const PolynomialSurface<Degree>>(*shared), part);
+}
+
 std::optional<CellAcceleration> PolynomialCellAccelerator::accelerate(const FieldProgram& program, const Box3& box,
                                                                       double) const {
     const FieldLeaf* leaf = program.singleLeaf();
@@ -175,21 +191,23 @@ std::optional<CellAcceleration> PolynomialCellAccelerator::accelerate(const Fiel
     // holds zero (as the general tracer shrinks its cells). Splitting it
     // further made rays cross more parts, each a call from Embree.
     Box3 part;
+    auto within = [&part](const Box3& b) { return part.contains(b.lower) && part.contains(b.upper); };
     for (int i = 0; i < 8; ++i) {
         const Box3 child = leafBox.octant(i);
-        if (!polynomial->range(child).containsZero()) continue;
-        for (int k = 0; k < 8; ++k)
-            if (polynomial->range(child.octant(k)).containsZero()) part.extend(child.octant(k));
+        if (within(child) || !polynomial->range(child).containsZero()) continue;
+        for (int k = 0; k < 8; ++k) {
+            const Box3 grandchild = child.octant(k);
+            if (!within(grandchild) && polynomial->range(grandchild).containsZero()) part.extend(grandchild);
+        }
     }
-    std::vector<Box3> parts;
-    if (!part.isEmpty()) parts.push_back(part);
+    if (part.isEmpty()) return CellAcceleration{};
     CellAcceleration a;
-    a.parts = worldPartBoxes(placement, parts, box);
+    a.parts = worldPartBoxes(placement, {part}, box);
     const uint64_t key = surfaceKey(*polynomial, placement);
-    if (degree <= 2) a.tracer = makeTracer<2>(*polynomial, placement, std::move(parts), key);
-    else if (degree <= 4) a.tracer = makeTracer<4>(*polynomial, placement, std::move(parts), key);
-    else if (degree <= 6) a.tracer = makeTracer<6>(*polynomial, placement, std::move(parts), key);
-    else a.tracer = makeTracer<8>(*polynomial, placement, std::move(parts), key);
+    if (degree <= 2) a.tracer = tracerFor<2>(*polynomial, placement, key, part);
+    else if (degree <= 4) a.tracer = tracerFor<4>(*polynomial, placement, key, part);
+    else if (degree <= 6) a.tracer = tracerFor<6>(*polynomial, placement, key, part);
+    else a.tracer = tracerFor<8>(*polynomial, placement, key, part);
     return a;
 }
 

@@ -6,6 +6,10 @@
 // a Lipschitz bound that is loose where the gradient nearly vanishes.
 #pragma once
 
+#include <mutex>
+#include <unordered_map>
+
+#include "geometry/fields/polynomial.h"
 #include "geometry/tracing/cell_accelerator.h"
 
 namespace isotrace::geometry {
@@ -18,6 +22,16 @@ public:
 
     std::optional<CellAcceleration> accelerate(const FieldProgram& cellProgram, const Box3& cellBox,
                                                double surfaceDiagonal) const override;
+
+private:
+    template <int Degree>
+    std::unique_ptr<const CellTracer> tracerFor(const PolynomialField& field, const LeafPlacement& placement,
+                                                uint64_t key, const Box3& part) const;
+
+    // The surfaces the cells share, by content key (cells are offered in
+    // parallel, at load time only).
+    mutable std::mutex mutex_;
+    mutable std::unordered_map<uint64_t, std::shared_ptr<const void>> surfaces_;
 };
 
 }  // namespace isotrace::geometry
