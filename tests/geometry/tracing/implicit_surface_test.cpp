@@ -52,3 +52,28 @@ TEST(ImplicitSurface, TightDomainIsKept) {
     ImplicitSurface surface(compileField(R"({"type": "sphere", "radius": 1})"));
     EXPECT_LE((surface.refinementRoot().extent() - surface.bounds().extent()).cwiseAbs().maxCoeff(), 1e-3);
 }
+
+// A field that is a distance bound in a cell (Lipschitz 1: spheres, boxes,
+// tori and their unions and differences) gains nothing from smaller cells,
+// so such cells stop splitting at depth 3, or 4 for two primitives combined,
+// while a field whose bound smaller cells tighten (Goursat's tangle, sphere
+// traced here without its exact-root accelerator) refines further, to the
+// depth its cell budget allows.
+TEST(ImplicitSurface, DistanceBoundedCellsStopSplittingEarly) {
+    auto smallestCellExtent = [](const ImplicitSurface& s) {
+        double smallest = INFINITY;
+        for (const SurfaceCell& c : s.cells()) smallest = std::min(smallest, c.box.extent().maxCoeff());
+        return smallest;
+    };
+    // Shrinking to the surface takes a cell down by up to two halvings.
+    const ImplicitSurface sphere(compileField(R"({"type": "sphere", "radius": 1})"));
+    EXPECT_LE(sphere.cells().size(), 512u);
+    EXPECT_GE(smallestCellExtent(sphere), sphere.refinementRoot().extent().maxCoeff() / 8 / 4 * (1 - 1e-9));
+    const ImplicitSurface difference(compileField(R"({"type": "difference", "of": [{"type": "box", "size": [2, 2, 2]},
+        {"type": "sphere", "center": [0.5, 0.5, 0.5], "radius": 1}]})"));
+    EXPECT_GE(smallestCellExtent(difference), difference.refinementRoot().extent().maxCoeff() / 16 / 4 * (1 - 1e-9));
+    ImplicitSurfaceOptions marchOnly;
+    marchOnly.cellAccelerators.clear();
+    const ImplicitSurface tangle(compileField(R"({"type": "polynomial", "preset": "tangle"})"), marchOnly);
+    EXPECT_LT(smallestCellExtent(tangle), tangle.refinementRoot().extent().maxCoeff() / 8 / 4 * (1 - 1e-9));
+}
