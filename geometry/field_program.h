@@ -109,6 +109,13 @@ public:
     /// The leaf, when the whole program is one leaf (as many pruned cell
     /// programs are); else null.
     const FieldLeaf* singleLeaf() const { return code_.size() == 1 ? &leaves_[code_[0].a] : nullptr; }
+    /// The leaf when the program is one leaf or its complement (as the
+    /// cells of a difference are where only the carving operand is left):
+    /// the same surface, with `negated` telling that the gradient flips.
+    const FieldLeaf* leafUpToSign(bool& negated) const {
+        negated = code_.size() == 2 && code_[0].op == FieldOp::Leaf && code_[1].op == FieldOp::Negate;
+        return code_.size() == 1 || negated ? &leaves_[code_[0].a] : nullptr;
+    }
     size_t instructionCount() const { return code_.size(); }
     /// Node evaluations per point: instructions plus the terms inside leaves
     /// (blobs, segments), the cost measure of the benchmarks.

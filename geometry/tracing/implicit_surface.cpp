@@ -13,6 +13,7 @@
 
 #include "geometry/tracing/blob_cells.h"
 #include "geometry/tracing/polynomial_cells.h"
+#include "geometry/tracing/sphere_cells.h"
 #include "geometry/tracing/mpu_cells.h"
 #include "geometry/tracing/variational_cells.h"
 
@@ -20,7 +21,8 @@ namespace isotrace::geometry {
 
 std::vector<std::shared_ptr<const CellAccelerator>> defaultCellAccelerators() {
     return {std::make_shared<VariationalCellAccelerator>(), std::make_shared<MpuCellAccelerator>(),
-            std::make_shared<BlobCellAccelerator>(), std::make_shared<PolynomialCellAccelerator>()};
+            std::make_shared<BlobCellAccelerator>(), std::make_shared<PolynomialCellAccelerator>(),
+            std::make_shared<SphereCellAccelerator>()};
 }
 
 TraceCounters& threadTraceCounters() {
@@ -106,27 +108,6 @@ RefinedLevel refineCells(const Box3& root, const FieldProgram& field, const Impl
     return level;
 }
 
-// The part of `box` that can hold surface, to the resolution of two
-// further bisections: the union of the sub-cells of sub-cells whose range
-// holds zero (empty when none does). A cell that hugs its surface marches
-// with the bound of the region the surface is in, not of the cell's far
-// corners (the tangle's gradient grows as x^3 away from it). A sub-cell
-// already inside the union cannot widen it and is not tested: up to 72
-// range tests per cell were a third of the time cells took to build.
-Box3 shrunkToSurface(const FieldProgram& program, const Box3& box) {
-    Box3 kept;
-    auto within = [&kept](const Box3& b) { return kept.contains(b.lower) && kept.contains(b.upper); };
-    for (int i = 0; i < 8; ++i) {
-        const Box3 child = box.octant(i);
-        if (within(child) || !program.range(child).containsZero()) continue;
-        for (int k = 0; k < 8; ++k) {
-            const Box3 grandchild = child.octant(k);
-            if (!within(grandchild) && program.range(grandchild).containsZero()) kept.extend(grandchild);
-        }
-    }
-    return kept;
-}
-
 }  // namespace
 
 ImplicitSurface::ImplicitSurface(FieldProgram field, const ImplicitSurfaceOptions& options)
@@ -185,7 +166,10 @@ ImplicitSurface::ImplicitSurface(FieldProgram field, const ImplicitSurfaceOption
             // are O(N) for a variational field, and made the hand slower.
             if (b.acceleration->parts.empty()) return;
         } else {
-            box = shrunkToSurface(program, box);
+            // A cell that hugs its surface marches with the bound of the
+            // region the surface is in, not of the cell's far corners (the
+            // tangle's gradient grows as x^3 away from it).
+            box = shrunkToSurface(box, [&program](const Box3& b) { return program.range(b); });
             if (box.isEmpty()) return;
         }
         b.keep = true;

@@ -110,8 +110,8 @@ struct PolynomialSurface {
 template <int Degree>
 class PolynomialCellTracer final : public CellTracer {
 public:
-    PolynomialCellTracer(std::shared_ptr<const PolynomialSurface<Degree>> surface, const Box3& part)
-        : surface_(std::move(surface)), part_(part) {}
+    PolynomialCellTracer(std::shared_ptr<const PolynomialSurface<Degree>> surface, bool negated, const Box3& part)
+        : surface_(std::move(surface)), sign_(negated ? -1.0 : 1.0), part_(part) {}
 
     CellTraceResult trace(uint32_t, const Vec3& origin, const Vec3& direction, double t0, double t1,
                           const TraceSettings& settings) const override {
@@ -142,12 +142,13 @@ public:
         Vec3 gradient;
         surface.field.valueAndGradient(o + r.t * d, gradient);
         r.gradientKnown = true;
-        r.gradient = worldGradient(surface.placement, gradient);
+        r.gradient = worldGradient(surface.placement, sign_ * gradient);
         return r;
     }
 
 private:
     std::shared_ptr<const PolynomialSurface<Degree>> surface_;
+    double sign_;  ///< -1 for the complement (a carving operand)
     Box3 part_;  ///< in the leaf's frame
 };
 
@@ -167,7 +168,7 @@ uint64_t surfaceKey(const PolynomialField& field, const LeafPlacement& placement
 template <int Degree>
 std::unique_ptr<const CellTracer> PolynomialCellAccelerator::tracerFor(const PolynomialField& field,
                                                                       const LeafPlacement& placement, uint64_t key,
-                                                                      const Box3& part) const {
+                                                                      bool negated, const Box3& part) const {
     std::shared_ptr<const void>* shared;
     {
         const std::lock_guard<std::mutex> lock(mutex_);
@@ -175,12 +176,13 @@ std::unique_ptr<const CellTracer> PolynomialCellAccelerator::tracerFor(const Pol
         if (!*shared) *shared = std::make_shared<const PolynomialSurface<Degree>>(field, placement, key);
     }
     return std::make_unique<PolynomialCellTracer<Degree>>(
-        std::static_pointer_cast<const PolynomialSurface<Degree>>(*shared), part);
+        std::static_pointer_cast<const PolynomialSurface<Degree>>(*shared), negated, part);
 }
 
 std::optional<CellAcceleration> PolynomialCellAccelerator::accelerate(const FieldProgram& program, const Box3& box,
                                                                       double) const {
-    const FieldLeaf* leaf = program.singleLeaf();
+    bool negated = false;
+    const FieldLeaf* leaf = program.leafUpToSign(negated);
     const auto* polynomial = leaf ? std::get_if<PolynomialField>(&leaf->shape) : nullptr;
     if (!polynomial) return std::nullopt;
     const int degree = polynomial->polynomial.degree();
@@ -190,24 +192,15 @@ std::optional<CellAcceleration> PolynomialCellAccelerator::accelerate(const Fiel
     // One part: the union of the cell's grandchildren whose interval range
     // holds zero (as the general tracer shrinks its cells). Splitting it
     // further made rays cross more parts, each a call from Embree.
-    Box3 part;
-    auto within = [&part](const Box3& b) { return part.contains(b.lower) && part.contains(b.upper); };
-    for (int i = 0; i < 8; ++i) {
-        const Box3 child = leafBox.octant(i);
-        if (within(child) || !polynomial->range(child).containsZero()) continue;
-        for (int k = 0; k < 8; ++k) {
-            const Box3 grandchild = child.octant(k);
-            if (!within(grandchild) && polynomial->range(grandchild).containsZero()) part.extend(grandchild);
-        }
-    }
+    const Box3 part = shrunkToSurface(leafBox, [polynomial](const Box3& b) { return polynomial->range(b); });
     if (part.isEmpty()) return CellAcceleration{};
     CellAcceleration a;
     a.parts = worldPartBoxes(placement, {part}, box);
     const uint64_t key = surfaceKey(*polynomial, placement);
-    if (degree <= 2) a.tracer = tracerFor<2>(*polynomial, placement, key, part);
-    else if (degree <= 4) a.tracer = tracerFor<4>(*polynomial, placement, key, part);
-    else if (degree <= 6) a.tracer = tracerFor<6>(*polynomial, placement, key, part);
-    else a.tracer = tracerFor<8>(*polynomial, placement, key, part);
+    if (degree <= 2) a.tracer = tracerFor<2>(*polynomial, placement, key, negated, part);
+    else if (degree <= 4) a.tracer = tracerFor<4>(*polynomial, placement, key, negated, part);
+    else if (degree <= 6) a.tracer = tracerFor<6>(*polynomial, placement, key, negated, part);
+    else a.tracer = tracerFor<8>(*polynomial, placement, key, negated, part);
     return a;
 }
 

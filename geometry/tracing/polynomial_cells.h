@@ -26,7 +26,7 @@ public:
 private:
     template <int Degree>
     std::unique_ptr<const CellTracer> tracerFor(const PolynomialField& field, const LeafPlacement& placement,
-                                                uint64_t key, const Box3& part) const;
+                                                uint64_t key, bool negated, const Box3& part) const;
 
     // The surfaces the cells share, by content key (cells are offered in
     // parallel, at load time only).

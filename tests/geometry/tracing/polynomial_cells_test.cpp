@@ -3,6 +3,7 @@
 // tangle (quartic), a turned and scaled quadric, and a sextic.
 #include <gtest/gtest.h>
 
+#include "geometry/description/field_parser.h"
 #include "geometry/tracing/implicit_surface.h"
 #include "support/compile_field.h"
 #include "support/same_hits.h"
@@ -41,4 +42,15 @@ TEST(PolynomialCells, HeartAgreesWithMarching) {
 TEST(PolynomialCells, PretzelOfDegreeEightAgreesWithMarching) {
     const FieldProgram program = compileField(R"({"type": "polynomial", "preset": "pretzel2"})");
     isotrace::testing::expectSameHitsAsMarching(program, 1500, 200, 20);
+}
+
+// The complement of a polynomial (what a difference leaves in the cells
+// where only its carving operand matters) has the same roots, the gradient
+// turned around.
+TEST(PolynomialCells, ComplementAgreesWithMarching) {
+    const PolynomialField tangle = polynomialPreset("tangle");
+    FieldProgram program;
+    program.addUnary(FieldOp::Negate, program.addLeaf(tangle));
+    program.setBounds(tangle.domain);
+    isotrace::testing::expectSameHitsAsMarching(program, 1500, 400, 100);
 }

@@ -1,0 +1,70 @@
+#include "geometry/tracing/sphere_cells.h"
+
+#include <cmath>
+
+#include "geometry/fields/sphere.h"
+
+namespace isotrace::geometry {
+
+namespace {
+
+class SphereCellTracer final : public CellTracer {
+public:
+    SphereCellTracer(const SphereField& sphere, const LeafPlacement& placement, bool negated, const Box3& part)
+        : sphere_(sphere), placement_(placement), sign_(negated ? -1.0 : 1.0), part_(part) {}
+
+    CellTraceResult trace(uint32_t, const Vec3& origin, const Vec3& direction, double t0, double t1,
+                          const TraceSettings&) const override {
+        Vec3 o, d;
+        rayInLeafFrame(placement_, origin, direction, o, d);
+        if (!placement_.identity && !clipRayToBox(part_, o, d, t0, t1)) return {};
+        CellTraceResult r;
+        if (!(t1 > t0)) return r;
+        // |o - c + t d|^2 = r^2: a t^2 + 2 b t + c = 0, its roots in the
+        // cancellation-free form (q / a and c / q).
+        const Vec3 oc = o - sphere_.center;
+        const double a = d.squaredNorm(), b = oc.dot(d), c = oc.squaredNorm() - sphere_.radius * sphere_.radius;
+        const double discriminant = b * b - a * c;
+        r.steps = 1;
+        r.evaluations = 1;
+        if (!(discriminant >= 0.0)) return r;
+        const double q = -(b + std::copysign(std::sqrt(discriminant), b));
+        double near = q / a, far = q != 0.0 ? c / q : near;
+        if (near > far) std::swap(near, far);
+        const double t = near >= t0 ? near : far;
+        if (!(t >= t0 && t <= t1)) return r;
+        r.hit = true;
+        r.t = t;
+        Vec3 gradient;
+        sphere_.valueAndGradient(o + t * d, gradient);
+        r.gradientKnown = true;
+        r.gradient = worldGradient(placement_, sign_ * gradient);
+        return r;
+    }
+
+private:
+    SphereField sphere_;
+    LeafPlacement placement_;
+    double sign_;  ///< -1 for the complement (a carving sphere)
+    Box3 part_;  ///< in the leaf's frame
+};
+
+}  // namespace
+
+std::optional<CellAcceleration> SphereCellAccelerator::accelerate(const FieldProgram& program, const Box3& box,
+                                                                  double) const {
+    bool negated = false;
+    const FieldLeaf* leaf = program.leafUpToSign(negated);
+    const auto* sphere = leaf ? std::get_if<SphereField>(&leaf->shape) : nullptr;
+    if (!sphere) return std::nullopt;
+    const LeafPlacement& placement = leaf->placement;
+    const Box3 leafBox = placement.identity ? box : transformBox(placement.linear, placement.offset, box);
+    const Box3 part = shrunkToSurface(leafBox, [sphere](const Box3& b) { return sphere->range(b); });
+    CellAcceleration a;
+    if (part.isEmpty()) return a;
+    a.parts = worldPartBoxes(placement, {part}, box);
+    a.tracer = std::make_unique<SphereCellTracer>(*sphere, placement, negated, part);
+    return a;
+}
+
+}  // namespace isotrace::geometry
