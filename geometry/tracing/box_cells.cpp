@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "geometry/fields/box.h"
+#include "geometry/quadratic_roots.h"
 
 namespace isotrace::geometry {
 
@@ -51,17 +52,6 @@ std::vector<BoxPiece> piecesOf(const BoxField& box) {
                 pieces.push_back({BoxPiece::Kind::Ball, 0, c, {c - Vec3::Constant(r), c + Vec3::Constant(r)}});
             }
     return pieces;
-}
-
-// The roots of a t^2 + 2 b t + c (a > 0) in order; false when none.
-bool quadraticRoots(double a, double b, double c, double& near, double& far) {
-    const double discriminant = b * b - a * c;
-    if (!(discriminant >= 0.0)) return false;
-    const double q = -(b + std::copysign(std::sqrt(discriminant), b));
-    near = q / a;
-    far = q != 0.0 ? c / q : near;
-    if (near > far) std::swap(near, far);
-    return true;
 }
 
 // The ray's interval inside one piece, within [t0, t1]; false when empty.

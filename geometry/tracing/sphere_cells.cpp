@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "geometry/fields/sphere.h"
+#include "geometry/quadratic_roots.h"
 
 namespace isotrace::geometry {
 
@@ -20,17 +21,13 @@ public:
         if (!placement_.identity && !clipRayToBox(part_, o, d, t0, t1)) return {};
         CellTraceResult r;
         if (!(t1 > t0)) return r;
-        // |o - c + t d|^2 = r^2: a t^2 + 2 b t + c = 0, its roots in the
-        // cancellation-free form (q / a and c / q).
+        // |o - c + t d|^2 = r^2: a t^2 + 2 b t + c = 0.
         const Vec3 oc = o - sphere_.center;
-        const double a = d.squaredNorm(), b = oc.dot(d), c = oc.squaredNorm() - sphere_.radius * sphere_.radius;
-        const double discriminant = b * b - a * c;
         r.steps = 1;
         r.evaluations = 1;
-        if (!(discriminant >= 0.0)) return r;
-        const double q = -(b + std::copysign(std::sqrt(discriminant), b));
-        double near = q / a, far = q != 0.0 ? c / q : near;
-        if (near > far) std::swap(near, far);
+        double near, far;
+        if (!quadraticRoots(d.squaredNorm(), oc.dot(d), oc.squaredNorm() - sphere_.radius * sphere_.radius, near, far))
+            return r;
         const double t = near >= t0 ? near : far;
         if (!(t >= t0 && t <= t1)) return r;
         r.hit = true;
