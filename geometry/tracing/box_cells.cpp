@@ -91,9 +91,8 @@ bool pieceInterval(const BoxPiece& piece, double r, const Vec3& o, const Vec3& d
 
 class BoxCellTracer final : public CellTracer {
 public:
-    BoxCellTracer(const BoxField& box, const LeafPlacement& placement, bool negated, const Box3& part,
-                  std::vector<BoxPiece> pieces)
-        : box_(box), placement_(placement), sign_(negated ? -1.0 : 1.0), part_(part), pieces_(std::move(pieces)) {}
+    BoxCellTracer(const ShapeCell<BoxField>& cell, std::vector<BoxPiece> pieces)
+        : box_(*cell.shape), placement_(*cell.placement), sign_(cell.sign()), part_(cell.part), pieces_(std::move(pieces)) {}
 
     CellTraceResult trace(uint32_t, const Vec3& origin, const Vec3& direction, double t0, double t1,
                           const TraceSettings&) const override {
@@ -117,12 +116,7 @@ public:
         // Entering from outside, or, when inside at t0, leaving.
         const double t = enter > t0 ? enter : leave < t1 ? leave : NAN;
         if (!std::isfinite(t)) return r;
-        r.hit = true;
-        r.t = t;
-        Vec3 gradient;
-        box_.valueAndGradient(o + t * d, gradient);
-        r.gradientKnown = true;
-        r.gradient = worldGradient(placement_, sign_ * gradient);
+        recordHit(r, t, box_, o, d, placement_, sign_);
         return r;
     }
 
@@ -138,23 +132,19 @@ private:
 
 std::optional<CellAcceleration> BoxCellAccelerator::accelerate(const FieldProgram& program, const Box3& box,
                                                                double) const {
-    bool negated = false;
-    const FieldLeaf* leaf = program.leafUpToSign(negated);
-    const auto* field = leaf ? std::get_if<BoxField>(&leaf->shape) : nullptr;
-    if (!field) return std::nullopt;
-    const LeafPlacement& placement = leaf->placement;
-    const Box3 leafBox = placement.identity ? box : transformBox(placement.linear, placement.offset, box);
-    const Box3 part = shrunkToSurface(leafBox, [field](const Box3& b) { return field->range(b); });
+    const ShapeCell<BoxField> cell(program, box);
+    if (!cell.shape) return std::nullopt;
     CellAcceleration a;
-    if (part.isEmpty()) return a;
+    if (cell.part.isEmpty()) return a;
     // The pieces that reach the part (in the box's frame).
-    const Box3 local(part.lower - field->center, part.upper - field->center);
+    const Vec3& centre = cell.shape->center;
+    const Box3 local(cell.part.lower - centre, cell.part.upper - centre);
     std::vector<BoxPiece> pieces;
-    for (const BoxPiece& piece : piecesOf(*field))
+    for (const BoxPiece& piece : piecesOf(*cell.shape))
         if (!intersection(piece.extent, local).isEmpty()) pieces.push_back(piece);
     if (pieces.empty()) return a;
-    a.parts = worldPartBoxes(placement, {part}, box);
-    a.tracer = std::make_unique<BoxCellTracer>(*field, placement, negated, part, std::move(pieces));
+    a.parts = worldPartBoxes(*cell.placement, {cell.part}, box);
+    a.tracer = std::make_unique<BoxCellTracer>(cell, std::move(pieces));
     return a;
 }
 

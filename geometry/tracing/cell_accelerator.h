@@ -89,6 +89,41 @@ Box3 shrunkToSurface(const Box3& box, const RangeOf& range) {
     return kept;
 }
 
+/// Records a hit at t on a leaf shape, with its gradient there (in the
+/// leaf's frame, then the world's; `sign` -1 for a complement).
+template <typename Shape>
+void recordHit(CellTraceResult& r, double t, const Shape& shape, const Vec3& leafOrigin, const Vec3& leafDirection,
+               const LeafPlacement& placement, double sign) {
+    r.hit = true;
+    r.t = t;
+    Vec3 gradient;
+    shape.valueAndGradient(leafOrigin + t * leafDirection, gradient);
+    r.gradientKnown = true;
+    r.gradient = worldGradient(placement, sign * gradient);
+}
+
+/// A cell whose program is one leaf of kind `Shape` or its complement (as
+/// a difference leaves its carving operand): the shape, and the cell shrunk
+/// to its surface in the leaf's frame. `shape` is null for other programs.
+template <typename Shape>
+struct ShapeCell {
+    const Shape* shape = nullptr;
+    const LeafPlacement* placement = nullptr;
+    bool negated = false;
+    Box3 part;  ///< empty when the cell holds no surface
+
+    ShapeCell(const FieldProgram& program, const Box3& cellBox) {
+        const FieldLeaf* leaf = program.leafUpToSign(negated);
+        shape = leaf ? std::get_if<Shape>(&leaf->shape) : nullptr;
+        if (!shape) return;
+        placement = &leaf->placement;
+        const Box3 leafBox =
+            placement->identity ? cellBox : transformBox(placement->linear, placement->offset, cellBox);
+        part = shrunkToSurface(leafBox, [this](const Box3& b) { return shape->range(b); });
+    }
+    double sign() const { return negated ? -1.0 : 1.0; }
+};
+
 class CellAccelerator {
 public:
     virtual ~CellAccelerator() = default;

@@ -137,12 +137,7 @@ public:
         r.steps = 1 + stats.subdivisions;
         r.evaluations = uint64_t(r.steps + stats.evaluations);
         if (!s) return r;
-        r.hit = true;
-        r.t = ray.expandedAt + *s;
-        Vec3 gradient;
-        surface.field.valueAndGradient(o + r.t * d, gradient);
-        r.gradientKnown = true;
-        r.gradient = worldGradient(surface.placement, sign_ * gradient);
+        recordHit(r, ray.expandedAt + *s, surface.field, o, d, surface.placement, sign_);
         return r;
     }
 
@@ -181,26 +176,22 @@ std::unique_ptr<const CellTracer> PolynomialCellAccelerator::tracerFor(const Pol
 
 std::optional<CellAcceleration> PolynomialCellAccelerator::accelerate(const FieldProgram& program, const Box3& box,
                                                                       double) const {
-    bool negated = false;
-    const FieldLeaf* leaf = program.leafUpToSign(negated);
-    const auto* polynomial = leaf ? std::get_if<PolynomialField>(&leaf->shape) : nullptr;
-    if (!polynomial) return std::nullopt;
-    const int degree = polynomial->polynomial.degree();
+    const ShapeCell<PolynomialField> cell(program, box);
+    if (!cell.shape) return std::nullopt;
+    const int degree = cell.shape->polynomial.degree();
     if (degree < 1 || degree > kMaxDegree) return std::nullopt;
-    const LeafPlacement& placement = leaf->placement;
-    const Box3 leafBox = placement.identity ? box : transformBox(placement.linear, placement.offset, box);
-    // One part: the union of the cell's grandchildren whose interval range
-    // holds zero (as the general tracer shrinks its cells). Splitting it
+    // One part per cell, the cell shrunk to the surface: splitting it
     // further made rays cross more parts, each a call from Embree.
-    const Box3 part = shrunkToSurface(leafBox, [polynomial](const Box3& b) { return polynomial->range(b); });
-    if (part.isEmpty()) return CellAcceleration{};
     CellAcceleration a;
-    a.parts = worldPartBoxes(placement, {part}, box);
-    const uint64_t key = surfaceKey(*polynomial, placement);
-    if (degree <= 2) a.tracer = tracerFor<2>(*polynomial, placement, key, negated, part);
-    else if (degree <= 4) a.tracer = tracerFor<4>(*polynomial, placement, key, negated, part);
-    else if (degree <= 6) a.tracer = tracerFor<6>(*polynomial, placement, key, negated, part);
-    else a.tracer = tracerFor<8>(*polynomial, placement, key, negated, part);
+    if (cell.part.isEmpty()) return a;
+    a.parts = worldPartBoxes(*cell.placement, {cell.part}, box);
+    const PolynomialField& field = *cell.shape;
+    const LeafPlacement& placement = *cell.placement;
+    const uint64_t key = surfaceKey(field, placement);
+    if (degree <= 2) a.tracer = tracerFor<2>(field, placement, key, cell.negated, cell.part);
+    else if (degree <= 4) a.tracer = tracerFor<4>(field, placement, key, cell.negated, cell.part);
+    else if (degree <= 6) a.tracer = tracerFor<6>(field, placement, key, cell.negated, cell.part);
+    else a.tracer = tracerFor<8>(field, placement, key, cell.negated, cell.part);
     return a;
 }
 

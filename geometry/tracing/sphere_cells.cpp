@@ -11,8 +11,8 @@ namespace {
 
 class SphereCellTracer final : public CellTracer {
 public:
-    SphereCellTracer(const SphereField& sphere, const LeafPlacement& placement, bool negated, const Box3& part)
-        : sphere_(sphere), placement_(placement), sign_(negated ? -1.0 : 1.0), part_(part) {}
+    explicit SphereCellTracer(const ShapeCell<SphereField>& cell)
+        : sphere_(*cell.shape), placement_(*cell.placement), sign_(cell.sign()), part_(cell.part) {}
 
     CellTraceResult trace(uint32_t, const Vec3& origin, const Vec3& direction, double t0, double t1,
                           const TraceSettings&) const override {
@@ -30,12 +30,7 @@ public:
             return r;
         const double t = near >= t0 ? near : far;
         if (!(t >= t0 && t <= t1)) return r;
-        r.hit = true;
-        r.t = t;
-        Vec3 gradient;
-        sphere_.valueAndGradient(o + t * d, gradient);
-        r.gradientKnown = true;
-        r.gradient = worldGradient(placement_, sign_ * gradient);
+        recordHit(r, t, sphere_, o, d, placement_, sign_);
         return r;
     }
 
@@ -50,17 +45,12 @@ private:
 
 std::optional<CellAcceleration> SphereCellAccelerator::accelerate(const FieldProgram& program, const Box3& box,
                                                                   double) const {
-    bool negated = false;
-    const FieldLeaf* leaf = program.leafUpToSign(negated);
-    const auto* sphere = leaf ? std::get_if<SphereField>(&leaf->shape) : nullptr;
-    if (!sphere) return std::nullopt;
-    const LeafPlacement& placement = leaf->placement;
-    const Box3 leafBox = placement.identity ? box : transformBox(placement.linear, placement.offset, box);
-    const Box3 part = shrunkToSurface(leafBox, [sphere](const Box3& b) { return sphere->range(b); });
+    const ShapeCell<SphereField> cell(program, box);
+    if (!cell.shape) return std::nullopt;
     CellAcceleration a;
-    if (part.isEmpty()) return a;
-    a.parts = worldPartBoxes(placement, {part}, box);
-    a.tracer = std::make_unique<SphereCellTracer>(*sphere, placement, negated, part);
+    if (cell.part.isEmpty()) return a;
+    a.parts = worldPartBoxes(*cell.placement, {cell.part}, box);
+    a.tracer = std::make_unique<SphereCellTracer>(cell);
     return a;
 }
 

@@ -9,8 +9,8 @@ namespace {
 
 class TorusCellTracer final : public CellTracer {
 public:
-    TorusCellTracer(const TorusField& torus, const LeafPlacement& placement, bool negated, const Box3& part)
-        : torus_(torus), placement_(placement), sign_(negated ? -1.0 : 1.0), part_(part) {}
+    explicit TorusCellTracer(const ShapeCell<TorusField>& cell)
+        : torus_(*cell.shape), placement_(*cell.placement), sign_(cell.sign()), part_(cell.part) {}
 
     CellTraceResult trace(uint32_t, const Vec3& origin, const Vec3& direction, double t0, double t1,
                           const TraceSettings& settings) const override {
@@ -35,12 +35,7 @@ public:
         r.steps = 1 + stats.subdivisions;
         r.evaluations = uint64_t(r.steps + stats.evaluations);
         if (!s) return r;
-        r.hit = true;
-        r.t = tc + *s;
-        Vec3 gradient;
-        torus_.valueAndGradient(o + r.t * D, gradient);
-        r.gradientKnown = true;
-        r.gradient = worldGradient(placement_, sign_ * gradient);
+        recordHit(r, tc + *s, torus_, o, D, placement_, sign_);
         return r;
     }
 
@@ -55,17 +50,12 @@ private:
 
 std::optional<CellAcceleration> TorusCellAccelerator::accelerate(const FieldProgram& program, const Box3& box,
                                                                  double) const {
-    bool negated = false;
-    const FieldLeaf* leaf = program.leafUpToSign(negated);
-    const auto* torus = leaf ? std::get_if<TorusField>(&leaf->shape) : nullptr;
-    if (!torus || !(torus->minor < torus->major)) return std::nullopt;
-    const LeafPlacement& placement = leaf->placement;
-    const Box3 leafBox = placement.identity ? box : transformBox(placement.linear, placement.offset, box);
-    const Box3 part = shrunkToSurface(leafBox, [torus](const Box3& b) { return torus->range(b); });
+    const ShapeCell<TorusField> cell(program, box);
+    if (!cell.shape || !(cell.shape->minor < cell.shape->major)) return std::nullopt;
     CellAcceleration a;
-    if (part.isEmpty()) return a;
-    a.parts = worldPartBoxes(placement, {part}, box);
-    a.tracer = std::make_unique<TorusCellTracer>(*torus, placement, negated, part);
+    if (cell.part.isEmpty()) return a;
+    a.parts = worldPartBoxes(*cell.placement, {cell.part}, box);
+    a.tracer = std::make_unique<TorusCellTracer>(cell);
     return a;
 }
 
