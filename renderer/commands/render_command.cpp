@@ -1,8 +1,10 @@
 // `isotrace render`: a scene file to an EXR and a PNG preview, whole or as
 // a crop or tile of the frame.
 #include <cstdio>
+#include <exception>
 #include <filesystem>
 #include <sstream>
+#include <tbb/parallel_invoke.h>
 #include <tbb/task_arena.h>
 
 #include "geometry/content_hash.h"
@@ -72,6 +74,36 @@ std::string describeCamera(const CameraSettings& c) {
 }
 
 
+// The EXR and its preview are compressed at once, each mostly on one thread.
+// A failed EXR takes its preview with it, so no half-finished pair is left.
+void writeImageAndPreview(tbb::task_arena& arena, const RenderCommand& cmd, const std::string& output,
+                          const Image& image, const ImageMetadata& meta) {
+    std::exception_ptr imageError, previewError;
+    arena.execute([&] {
+        tbb::parallel_invoke(
+            [&] {
+                try {
+                    writeImage(output, image, meta, cmd.half);
+                } catch (...) {
+                    imageError = std::current_exception();
+                }
+            },
+            [&] {
+                try {
+                    if (!cmd.noPreview) writePreviewPng(previewPathFor(output), image, cmd.exposure);
+                } catch (...) {
+                    previewError = std::current_exception();
+                }
+            });
+    });
+    if (imageError) {
+        std::error_code ignored;
+        if (!cmd.noPreview && !previewError) std::filesystem::remove(previewPathFor(output), ignored);
+        std::rethrow_exception(imageError);
+    }
+    if (previewError) std::rethrow_exception(previewError);
+}
+
 int runRender(const RenderCommand& cmd) {
     SceneOverrides overrides;
     overrides.width = cmd.width;
@@ -112,8 +144,7 @@ int runRender(const RenderCommand& cmd) {
                     {"isotrace:render_seconds", std::to_string(stats.seconds)},
                     {"isotrace:camera", describeCamera(scene->camera)},
                     {"isotrace:integrator", scene->integrator->typeName()}};
-    writeImage(output, image, meta, cmd.half);
-    if (!cmd.noPreview) writePreviewPng(previewPathFor(output), image, cmd.exposure);
+    writeImageAndPreview(arena, cmd, output, image, meta);
     if (stats.nonFiniteSamples > 0)
         std::fprintf(stderr, "warning: %lld samples had non-finite radiance and were discarded\n", stats.nonFiniteSamples);
     if (!cmd.quiet)

@@ -61,6 +61,12 @@ Imf::Slice sliceOf(const Sample* first, size_t stride, const Imath::Box2i& windo
 }  // namespace
 
 void writeExr(const std::string& path, const ImageFile& image, SampleFormat format) {
+    if (image.pixels.size() != size_t(image.width) * image.height * image.channelNames.size())
+        throw std::invalid_argument("writeExr: the pixels do not match the size and channels");
+    writeExr(path, image, image.pixels.data(), format);
+}
+
+void writeExr(const std::string& path, const ImageFile& image, const float* pixels, SampleFormat format) {
     if (format == SampleFormat::Byte) throw std::invalid_argument("writeExr: EXR stores float or half samples");
     useAllCores();
     const int fullWidth = image.fullWidth > 0 ? image.fullWidth : image.width;
@@ -75,14 +81,14 @@ void writeExr(const std::string& path, const ImageFile& image, SampleFormat form
         // OpenEXR converts types when reading but not when writing: half
         // files are written from half samples.
         const bool toHalf = format == SampleFormat::Half;
-        std::vector<half> halves(toHalf ? image.pixels.size() : 0);
-        std::copy(image.pixels.begin(), image.pixels.begin() + ptrdiff_t(halves.size()), halves.begin());
+        std::vector<half> halves(toHalf ? size_t(image.width) * image.height * image.channelNames.size() : 0);
+        std::copy(pixels, pixels + halves.size(), halves.begin());
         Imf::FrameBuffer frame;
         const size_t channels = image.channelNames.size();
         for (size_t c = 0; c < channels; ++c) {
             header.channels().insert(image.channelNames[c], Imf::Channel(toHalf ? Imf::HALF : Imf::FLOAT));
             frame.insert(image.channelNames[c], toHalf ? sliceOf(halves.data() + c, channels, data)
-                                                       : sliceOf(image.pixels.data() + c, channels, data));
+                                                       : sliceOf(pixels + c, channels, data));
         }
         Imf::OutputFile file(path.c_str(), header);
         file.setFrameBuffer(frame);

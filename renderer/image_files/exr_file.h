@@ -13,6 +13,10 @@ namespace isotrace {
 /// ZIP compressed, with the string attributes. Throws std::runtime_error
 /// with OpenEXR's message.
 void writeExr(const std::string& path, const ImageFile& image, SampleFormat format);
+/// The same with the samples at `pixels` (image.channels() floats per pixel,
+/// row-major) instead of in image.pixels: a render's colour buffer goes to
+/// the file without a copy.
+void writeExr(const std::string& path, const ImageFile& image, const float* pixels, SampleFormat format);
 
 /// Reads every channel as float: R, G, B, A first, then the AOV channels
 /// in the order renders write them (a file keeps its channels sorted by

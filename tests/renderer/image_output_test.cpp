@@ -7,7 +7,12 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <OpenImageIO/imageio.h>
+
+#include <algorithm>
+#include <cmath>
 #include <csignal>
+#include <limits>
 #include <random>
 
 #include "renderer/image_output.h"
@@ -114,5 +119,41 @@ TEST(ImageOutput, ExrKeepsWindowChannelsAndMetadata) {
         for (size_t i = 0; i < image.extra.size(); ++i) EXPECT_NEAR(back.extra[i], image.extra[i], tolerance) << i;
         EXPECT_EQ(metadataValue(read, "isotrace:seed"), "7");
         EXPECT_EQ(metadataValue(read, "isotrace:scene"), "a b.json");
+    }
+}
+
+// The preview's bytes are the sRGB encoding of the exposed value, rounded:
+// values on either side of every byte's rounding point, beyond the ends,
+// negative and NaN, read back through OpenImageIO.
+TEST(ImageOutput, PreviewBytesAreRoundedSrgb) {
+    auto encode = [](double v) {
+        v = std::clamp(v, 0.0, 1.0);
+        v = v <= 0.0031308 ? 12.92 * v : 1.055 * std::pow(v, 1.0 / 2.4) - 0.055;
+        return int(std::lround(v * 255.0));
+    };
+    auto decode = [](double e) { return e <= 0.04045 ? e / 12.92 : std::pow((e + 0.055) / 1.055, 2.4); };
+    std::vector<float> values = {0.0f, -1.0f, 2.0f, 1.0f, std::numeric_limits<float>::infinity(),
+                                 std::numeric_limits<float>::quiet_NaN(), 1e-6f};
+    for (int k = 0; k < 255; ++k) {
+        const double edge = decode((k + 0.5) / 255.0);
+        values.push_back(float(edge * (1 - 1e-5)));
+        values.push_back(float(edge * (1 + 1e-5)));
+        values.push_back(float(decode(k / 255.0)));
+    }
+    while (values.size() % 3) values.push_back(0.5f);
+    Image image;
+    image.width = int(values.size() / 3);
+    image.height = 1;
+    image.rgb = values;
+    const double exposure = 1.0;  // values are doubled before encoding
+    TemporaryFolder folder;
+    writePreviewPng(folder.file("p.png"), image, exposure);
+    auto in = OIIO::ImageInput::open(folder.file("p.png"));
+    ASSERT_TRUE(in);
+    std::vector<unsigned char> bytes(values.size());
+    ASSERT_TRUE(in->read_image(0, 0, 0, 3, OIIO::TypeDesc::UINT8, bytes.data()));
+    for (size_t i = 0; i < values.size(); ++i) {
+        const double v = std::isnan(values[i]) ? 0.0 : 2.0 * values[i];
+        EXPECT_EQ(int(bytes[i]), encode(v)) << "value " << values[i];
     }
 }
