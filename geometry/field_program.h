@@ -117,6 +117,10 @@ public:
         return code_.size() == 1 || negated ? &leaves_[code_[0].a] : nullptr;
     }
     size_t instructionCount() const { return code_.size(); }
+    /// The tape, for accelerators that read a program's structure: slot i
+    /// holds instruction i's result; a Leaf's `a` indexes leaf().
+    const std::vector<FieldInstruction>& instructions() const { return code_; }
+    const FieldLeaf& leaf(uint32_t index) const { return leaves_[index]; }
     /// Node evaluations per point: instructions plus the terms inside leaves
     /// (blobs, segments), the cost measure of the benchmarks.
     size_t evaluationCost() const { return evaluationCost_; }

@@ -2,8 +2,7 @@
 
 #include <cmath>
 
-#include "geometry/fields/sphere.h"
-#include "geometry/quadratic_roots.h"
+#include "geometry/tracing/shape_spans.h"
 
 namespace isotrace::geometry {
 
@@ -21,13 +20,10 @@ public:
         if (!placement_.identity && !clipRayToBox(part_, o, d, t0, t1)) return {};
         CellTraceResult r;
         if (!(t1 > t0)) return r;
-        // |o - c + t d|^2 = r^2: a t^2 + 2 b t + c = 0.
-        const Vec3 oc = o - sphere_.center;
         r.steps = 1;
         r.evaluations = 1;
         double near, far;
-        if (!quadraticRoots(d.squaredNorm(), oc.dot(d), oc.squaredNorm() - sphere_.radius * sphere_.radius, near, far))
-            return r;
+        if (!sphereSpan(sphere_, o, d, near, far)) return r;
         const double t = near >= t0 ? near : far;
         if (!(t >= t0 && t <= t1)) return r;
         recordHit(r, t, sphere_, o, d, placement_, sign_);

@@ -1,7 +1,6 @@
 #include "geometry/tracing/torus_cells.h"
 
-#include "geometry/bernstein_root.h"
-#include "geometry/fields/torus.h"
+#include "geometry/tracing/shape_spans.h"
 
 namespace isotrace::geometry {
 
@@ -19,17 +18,8 @@ public:
         if (!placement_.identity && !clipRayToBox(part_, o, D, t0, t1)) return {};
         CellTraceResult r;
         if (!(t1 > t0)) return r;
-        // In s = t - tc, tc where the ray passes closest to the centre (small
-        // monomials, well conditioned): g = |d|^2 + R^2 - r^2 and
-        // h = d_x^2 + d_z^2 are quadratics in s, the quartic g^2 - 4 R^2 h.
-        const double tc = (torus_.center - o).dot(D) / D.squaredNorm();
-        const Vec3 d0 = o + tc * D - torus_.center;
-        const double R2 = torus_.major * torus_.major;
-        const double g0 = d0.squaredNorm() + R2 - torus_.minor * torus_.minor, g1 = 2.0 * d0.dot(D), g2 = D.squaredNorm();
-        const double h0 = d0.x() * d0.x() + d0.z() * d0.z(), h1 = 2.0 * (d0.x() * D.x() + d0.z() * D.z()),
-                     h2 = D.x() * D.x() + D.z() * D.z();
-        const Monomials<4> quartic{g0 * g0 - 4.0 * R2 * h0, 2.0 * g0 * g1 - 4.0 * R2 * h1,
-                                   g1 * g1 + 2.0 * g0 * g2 - 4.0 * R2 * h2, 2.0 * g1 * g2, g2 * g2};
+        double tc;
+        const Monomials<4> quartic = torusQuarticAlongRay(torus_, o, D, tc);
         BernsteinRootStats stats;
         const auto s = firstBernsteinRoot<4>(quartic, t0 - tc, t1 - tc, settings.epsilon / direction.norm(), &stats);
         r.steps = 1 + stats.subdivisions;

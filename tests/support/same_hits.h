@@ -14,12 +14,14 @@
 
 namespace isotrace::testing {
 
+/// `fastOptions` chooses the accelerators under test (all by default).
 inline void expectSameHitsAsMarching(const geometry::FieldProgram& program, int rays, int minimumHits,
-                                     int minimumSecondaryHits, double minimumNormalCosine = 0.999) {
+                                     int minimumSecondaryHits, double minimumNormalCosine = 0.999,
+                                     const geometry::ImplicitSurfaceOptions& fastOptions = {}) {
     using geometry::Vec3;
     geometry::ImplicitSurfaceOptions exactOptions;
     exactOptions.cellAccelerators.clear();
-    geometry::ImplicitSurface fast(program), exact(program, exactOptions);
+    geometry::ImplicitSurface fast(program, fastOptions), exact(program, exactOptions);
     ASSERT_GT(fast.acceleratedCellCount(), 0u);
     ASSERT_EQ(exact.acceleratedCellCount(), 0u);
     EmbreeScene fastScene, exactScene;
