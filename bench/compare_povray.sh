@@ -13,22 +13,19 @@ isotrace=${2:-build/isotrace}
 command -v povray >/dev/null || { echo "compare_povray.sh: needs povray (apt-get install povray)" >&2; exit 2; }
 scratch=$(mktemp -d); trap 'rm -rf "$scratch"' EXIT
 median() { tr ' ' '\n' | grep . | sort -g | awk '{ v[NR] = $1 } END { print v[int((NR + 1) / 2)] }'; }
-now() { date +%s%N; }
 printf '%-10s %12s %12s %12s %12s %9s %9s\n' scene "isotrace s" "render s" "POV-Ray s" "trace s" whole render
 for scene in bench/peers/*_whitted.json; do
   name=$(basename "$scene" _whitted.json)
   declare -A t=()
   for run in $(seq "$runs"); do
-    start=$(now)
-    line=$("$isotrace" render "$scene" --threads 2 --no-preview -o "$scratch/$name.exr" 2>&1 | grep '^wrote')
-    end=$(now)
-    t[iso]+="$(awk -v a="$start" -v b="$end" 'BEGIN { printf "%.4f", (b - a) / 1e9 }') "
+    # Wall time from bash's own `time` around each process alone (a
+    # date/grep/pipe harness around it added 10-20 ms to every run).
+    TIMEFORMAT=%3R
+    t[iso]+="$( { time "$isotrace" render "$scene" --threads 2 --no-preview -o "$scratch/$name.exr" >"$scratch/log" 2>&1; } 2>&1 ) "
+    line=$(grep '^wrote' "$scratch/log")
     t[isoRender]+="$(sed -E 's/.* in ([0-9.]+)s$/\1/' <<<"$line") "
-    start=$(now)
-    trace=$(cd "$scratch" && povray +I"$OLDPWD/bench/peers/$name.pov" +O"$scratch/$name.png" +W640 +H480 -A +WT2 -D -V 2>&1 |
-            grep 'Trace Time' | sed -E 's/.*\(([0-9.]+) seconds\).*/\1/')
-    end=$(now)
-    t[pov]+="$(awk -v a="$start" -v b="$end" 'BEGIN { printf "%.4f", (b - a) / 1e9 }') "
+    t[pov]+="$(cd "$scratch" && { time povray +I"$OLDPWD/bench/peers/$name.pov" +O"$scratch/$name.png" +W640 +H480 -A +WT2 -D -V >"$scratch/povlog" 2>&1; } 2>&1 ) "
+    trace=$(grep 'Trace Time' "$scratch/povlog" | sed -E 's/.*\(([0-9.]+) seconds\).*/\1/')
     t[povTrace]+="$trace "
   done
   iso=$(median <<<"${t[iso]}"); isoRender=$(median <<<"${t[isoRender]}")

@@ -51,8 +51,8 @@ std::optional<CellAcceleration> BoxCellAccelerator::accelerate(const FieldProgra
     CellAcceleration a;
     if (cell.part.isEmpty()) return a;
     // The pieces that reach the part.
-    RoundedBoxPieces pieces(*cell.shape);
-    if (!pieces.keepWithin(cell.part)) return a;
+    RoundedBoxPieces pieces(*cell.shape, cell.part);
+    if (pieces.empty()) return a;
     a.parts = worldPartBoxes(*cell.placement, {cell.part}, box);
     a.tracer = std::make_unique<BoxCellTracer>(cell, std::move(pieces));
     return a;

@@ -74,7 +74,7 @@ void complement(const SpanList& a, double t0, double t1, SpanList& out) {
 
 // One shape of the cell, with what the ray needs of it.
 struct CsgLeaf {
-    LeafShape shape;  // a SphereField, BoxField or TorusField
+    std::variant<SphereField, BoxField, TorusField> shape;
     LeafPlacement placement;
     std::optional<RoundedBoxPieces> boxPieces;  // the pieces of a box that reach the part
 };
@@ -220,15 +220,18 @@ std::optional<CellAcceleration> CsgCellAccelerator::accelerate(const FieldProgra
     // Leaves renumbered in the order the tape meets them.
     std::vector<FieldInstruction> renumbered = code;
     std::vector<CsgLeaf> leaves;
+    leaves.reserve(leafCount);
     for (FieldInstruction& in : renumbered) {
         if (in.op != FieldOp::Leaf) continue;
         const FieldLeaf& leaf = program.leaf(in.a);
-        CsgLeaf taken{leaf.shape, leaf.placement, std::nullopt};
+        CsgLeaf taken{SphereField{}, leaf.placement, std::nullopt};
+        if (const auto* sphere = std::get_if<SphereField>(&leaf.shape)) taken.shape = *sphere;
+        if (const auto* torus = std::get_if<TorusField>(&leaf.shape)) taken.shape = *torus;
         if (const auto* b = std::get_if<BoxField>(&leaf.shape)) {
+            taken.shape = *b;
             const Box3 local = leaf.placement.identity ? part
                                                        : transformBox(leaf.placement.linear, leaf.placement.offset, part);
-            taken.boxPieces.emplace(*b);
-            taken.boxPieces->keepWithin(local);  // none kept: the box is outside the whole part
+            taken.boxPieces.emplace(*b, local);  // none kept: the box is outside the whole part
         }
         in.a = uint32_t(leaves.size());
         leaves.push_back(std::move(taken));

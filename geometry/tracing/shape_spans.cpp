@@ -14,17 +14,22 @@ bool sphereSpan(const SphereField& sphere, const Vec3& o, const Vec3& d, double&
     return quadraticRoots(d.squaredNorm(), oc.dot(d), oc.squaredNorm() - sphere.radius * sphere.radius, enter, leave);
 }
 
-RoundedBoxPieces::RoundedBoxPieces(const BoxField& box) : centre_(box.center), rounding_(box.rounding) {
+RoundedBoxPieces::RoundedBoxPieces(const BoxField& box, const Box3& region)
+    : centre_(box.center), rounding_(box.rounding) {
+    const Box3 local(region.lower - centre_, region.upper - centre_);
+    auto keep = [&](const Piece& piece) {
+        if (!intersection(piece.extent, local).isEmpty()) pieces_.push_back(piece);
+    };
     const double r = box.rounding;
     const Vec3 core = (box.halfSize - Vec3::Constant(r)).cwiseMax(0.0);
     if (!(r > 0)) {
-        pieces_.push_back({Piece::Kind::Slab, 0, Vec3::Zero(), {-core, core}});
+        keep({Piece::Kind::Slab, 0, Vec3::Zero(), {-core, core}});
         return;
     }
     for (int axis = 0; axis < 3; ++axis) {
         Vec3 half = core;
         half[axis] += r;
-        pieces_.push_back({Piece::Kind::Slab, axis, Vec3::Zero(), {-half, half}});
+        keep({Piece::Kind::Slab, axis, Vec3::Zero(), {-half, half}});
     }
     for (int axis = 0; axis < 3; ++axis) {
         const int i = (axis + 1) % 3, j = (axis + 2) % 3;
@@ -36,21 +41,15 @@ RoundedBoxPieces::RoundedBoxPieces(const BoxField& box) : centre_(box.center), r
                 Vec3 lo = c - Vec3::Constant(r), hi = c + Vec3::Constant(r);
                 lo[axis] = -core[axis];
                 hi[axis] = core[axis];
-                pieces_.push_back({Piece::Kind::Cylinder, axis, c, {lo, hi}});
+                keep({Piece::Kind::Cylinder, axis, c, {lo, hi}});
             }
     }
     for (double sx : {-1.0, 1.0})
         for (double sy : {-1.0, 1.0})
             for (double sz : {-1.0, 1.0}) {
                 const Vec3 c(sx * core.x(), sy * core.y(), sz * core.z());
-                pieces_.push_back({Piece::Kind::Ball, 0, c, {c - Vec3::Constant(r), c + Vec3::Constant(r)}});
+                keep({Piece::Kind::Ball, 0, c, {c - Vec3::Constant(r), c + Vec3::Constant(r)}});
             }
-}
-
-bool RoundedBoxPieces::keepWithin(const Box3& region) {
-    const Box3 local(region.lower - centre_, region.upper - centre_);
-    std::erase_if(pieces_, [&](const Piece& piece) { return intersection(piece.extent, local).isEmpty(); });
-    return !pieces_.empty();
 }
 
 bool RoundedBoxPieces::pieceSpan(const Piece& piece, const Vec3& o, const Vec3& d, double t0, double t1,

@@ -25,10 +25,10 @@ bool sphereSpan(const SphereField& sphere, const Vec3& o, const Vec3& d, double&
 /// it last leaves one.
 class RoundedBoxPieces {
 public:
-    explicit RoundedBoxPieces(const BoxField& box);
-    /// Keeps the pieces that reach `region` (in the box's frame); false
-    /// when none does.
-    bool keepWithin(const Box3& region);
+    /// The pieces that reach `region` (in the box's frame): a cell on a
+    /// flat face keeps one.
+    RoundedBoxPieces(const BoxField& box, const Box3& region);
+    bool empty() const { return pieces_.empty(); }
     /// The ray's span inside the solid within [t0, t1], from the kept
     /// pieces; false when empty. `o` and `d` in the box's frame.
     bool span(const Vec3& o, const Vec3& d, double t0, double t1, double& enter, double& leave) const;
