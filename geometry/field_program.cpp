@@ -107,12 +107,18 @@ uint32_t FieldProgram::addBinary(FieldOp op, uint32_t a, uint32_t b, double para
     return push({op, a, b, parameter}, box);
 }
 
-double FieldProgram::value(const Vec3& p) const {
+double FieldProgram::value(const Vec3& p) const { return valueWithLeafValue(p, uint32_t(-1), 0.0); }
+
+double FieldProgram::valueWithLeafValue(const Vec3& p, uint32_t givenLeaf, double givenValue) const {
     double* slot = scratch<double>(code_.size());
     for (size_t i = 0; i < code_.size(); ++i) {
         const FieldInstruction& in = code_[i];
         switch (in.op) {
             case FieldOp::Leaf: {
+                if (in.a == givenLeaf) {
+                    slot[i] = givenValue;
+                    break;
+                }
                 const FieldLeaf& leaf = leaves_[in.a];
                 const Vec3 q = leaf.placement.leafFromWorld(p);
                 slot[i] = leaf.placement.valueScale * std::visit([&](const auto& s) { return s.value(q); }, leaf.shape);

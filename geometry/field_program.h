@@ -88,6 +88,12 @@ public:
     void narrowSlotBounds(uint32_t slot, const Box3& b);
 
     double value(const Vec3& p) const;
+    /// The value with leaf `leaf`'s value (placement included) taken as
+    /// `leafValue` instead of evaluated. Every operator is monotone in each
+    /// operand, so for a leaf the tape uses once, the values at the two ends
+    /// of an interval of the leaf's value bound the program's: a cheap model
+    /// of one costly leaf with a proven error certifies the sign.
+    double valueWithLeafValue(const Vec3& p, uint32_t leaf, double leafValue) const;
     double valueAndGradient(const Vec3& p, Vec3& gradient) const;
     /// The value at p and a radius around p free of zeros, when the program
     /// is a single leaf that can say (variational fields); else 0.

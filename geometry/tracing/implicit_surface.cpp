@@ -14,6 +14,7 @@
 #include "geometry/tracing/blob_cells.h"
 #include "geometry/tracing/box_cells.h"
 #include "geometry/tracing/csg_cells.h"
+#include "geometry/tracing/variational_csg_cells.h"
 #include "geometry/tracing/polynomial_cells.h"
 #include "geometry/tracing/sphere_cells.h"
 #include "geometry/tracing/torus_cells.h"
@@ -23,7 +24,8 @@
 namespace isotrace::geometry {
 
 std::vector<std::shared_ptr<const CellAccelerator>> defaultCellAccelerators() {
-    return {std::make_shared<VariationalCellAccelerator>(), std::make_shared<MpuCellAccelerator>(),
+    return {std::make_shared<VariationalCellAccelerator>(), std::make_shared<VariationalCsgCellAccelerator>(),
+            std::make_shared<MpuCellAccelerator>(),
             std::make_shared<BlobCellAccelerator>(), std::make_shared<PolynomialCellAccelerator>(),
             std::make_shared<SphereCellAccelerator>(), std::make_shared<TorusCellAccelerator>(),
             std::make_shared<BoxCellAccelerator>(), std::make_shared<CsgCellAccelerator>()};

@@ -1,0 +1,187 @@
+#include "geometry/tracing/variational_csg_cells.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "geometry/variational/variational_patch.h"
+
+namespace isotrace::geometry {
+
+namespace {
+
+// Models' value error over the diagonal of the surface: the model certifies
+// signs down to about this distance from it (in value), the exact tree the rest.
+constexpr double kRelativeTolerance = 1e-3;
+constexpr int kFinestSplit = 2;
+
+class VariationalCsgCellTracer final : public CellTracer {
+public:
+    VariationalCsgCellTracer(FieldProgram program, uint32_t leaf, const Box3& leafBox, int split,
+                             std::vector<VariationalPatch> models, double lipschitz, size_t terms)
+        : program_(std::move(program)), leaf_(leaf), placement_(program_.leaf(leaf).placement), leafBox_(leafBox),
+          split_(split), models_(std::move(models)), lipschitz_(lipschitz), terms_(terms) {}
+
+    CellTraceResult trace(uint32_t, const Vec3& origin, const Vec3& direction, double t0, double t1,
+                          const TraceSettings& settings) const override {
+        CellTraceResult r;
+        const double speed = direction.norm();
+        if (!(speed > 0) || !(t1 >= t0)) return r;
+        const double minStep = settings.epsilon / speed, stepScale = 1.0 / (std::max(lipschitz_, 1e-300) * speed);
+        int exactSteps = 0;
+        auto exactAt = [&](double t) {
+            ++exactSteps;
+            return program_.value(origin + t * direction);
+        };
+        auto finish = [&](bool hit, double t) {
+            r.hit = hit;
+            r.t = t;
+            r.evaluations = uint64_t(r.steps) * VariationalPatch::kMonomials + uint64_t(exactSteps) * terms_;
+            r.steps += exactSteps;
+            return r;
+        };
+        int previousSign = 0;
+        double tPrevious = t0, fPrevious = NAN;  // the exact value there, when it was needed
+        double t = t0;
+        while (r.steps + exactSteps < settings.maxSteps) {
+            const Vec3 p = origin + t * direction;
+            // The tree at both ends of the leaf's interval.
+            const Vec3 q = placement_.leafFromWorld(p);
+            const VariationalPatch& patch = modelAt(q);
+            const double model = patch.value(q);
+            const double a = program_.valueWithLeafValue(p, leaf_, placement_.valueScale * (model - patch.valueError));
+            const double b = program_.valueWithLeafValue(p, leaf_, placement_.valueScale * (model + patch.valueError));
+            ++r.steps;
+            int sign;
+            double margin, exact = NAN;
+            if (std::min(a, b) > 0) {
+                sign = 1;
+                margin = std::min(a, b);
+            } else if (std::max(a, b) < 0) {
+                sign = -1;
+                margin = -std::max(a, b);
+            } else {
+                // Within about the model's error of the surface: the exact tree.
+                exact = exactAt(t);
+                if (exact == 0.0) return finish(true, t);
+                sign = exact < 0 ? -1 : 1;
+                margin = std::abs(exact);
+            }
+            if (previousSign != 0 && sign != previousSign) {
+                // The root is in [tPrevious, t]: settle it on the exact tree.
+                const double fa = std::isnan(fPrevious) ? exactAt(tPrevious) : fPrevious;
+                const double fb = std::isnan(exact) ? exactAt(t) : exact;
+                if ((fa < 0) != (fb < 0)) {
+                    int evaluations = 0;
+                    const double root =
+                        refineRoot(program_, origin, direction, tPrevious, fa, t, fb, 1e-3 * minStep, &evaluations);
+                    exactSteps += evaluations;
+                    return finish(true, root);
+                }
+            }
+            previousSign = sign;
+            tPrevious = t;
+            fPrevious = exact;
+            if (t >= t1) return finish(false, 0.0);
+            const double step = margin * stepScale;
+            if (step >= minStep && t + step >= t1) return finish(false, 0.0);  // no zero up to the end
+            // A forced step of minStep may skip a sliver thinner than that, as
+            // the general tracer's does.
+            t = std::min(t + std::max(step, minStep), t1);
+        }
+        // Out of steps (a ray grazing the surface): the general tracer settles
+        // the rest, from the last point whose sign is known.
+        finish(false, 0.0);
+        r.complete = false;
+        r.t = tPrevious;
+        r.restEnd = t1;
+        return r;
+    }
+
+private:
+    // The model whose box holds q (a point of the part, in the leaf's frame).
+    const VariationalPatch& modelAt(const Vec3& q) const {
+        if (split_ == 1) return models_[0];
+        int index = 0;
+        for (int axis = 2; axis >= 0; --axis) {
+            const double u = (q[axis] - leafBox_.lower[axis]) / (leafBox_.upper[axis] - leafBox_.lower[axis]);
+            index = index * split_ + std::clamp(int(u * split_), 0, split_ - 1);
+        }
+        return models_[size_t(index)];
+    }
+
+    FieldProgram program_;
+    uint32_t leaf_;
+    LeafPlacement placement_;
+    Box3 leafBox_;  ///< the part in the leaf's frame, split into split^3 boxes with a model each
+    int split_;
+    std::vector<VariationalPatch> models_;  ///< of the variational leaf, in its frame, x fastest
+    double lipschitz_;  ///< of the tree over the part
+    size_t terms_;      ///< of the variational leaf: the cost of an exact evaluation
+};
+
+}  // namespace
+
+std::optional<CellAcceleration> VariationalCsgCellAccelerator::accelerate(const FieldProgram& program,
+                                                                          const Box3& box,
+                                                                          double surfaceDiagonal) const {
+    // One variational leaf among other leaves (a bare one is variational_cells').
+    int leaves = 0, variationalLeaves = 0;
+    uint32_t leaf = 0;
+    for (const FieldInstruction& in : program.instructions()) {
+        if (in.op != FieldOp::Leaf) continue;
+        ++leaves;
+        if (std::holds_alternative<VariationalLeafField>(program.leaf(in.a).shape)) {
+            ++variationalLeaves;
+            leaf = in.a;
+        }
+    }
+    if (variationalLeaves != 1 || leaves < 2) return std::nullopt;
+    const FieldLeaf& variational = program.leaf(leaf);
+    const VariationalField& field = *std::get<VariationalLeafField>(variational.shape).field;
+    CellAcceleration a;
+    const Box3 part = shrunkToSurface(box, [&](const Box3& b) { return program.range(b); });
+    if (part.isEmpty()) return a;
+    const LeafPlacement& placement = variational.placement;
+    const Box3 leafBox = placement.identity ? part : transformBox(placement.linear, placement.offset, part);
+    // Models fine enough to certify signs away from the surface: a model per
+    // box of a split x split x split grid, the coarsest that meets the
+    // tolerance (or the finest tried).
+    const double tolerance = kRelativeTolerance * surfaceDiagonal / placement.valueScale;
+    std::vector<VariationalPatch> models;
+    int split = 1;
+    for (;; split *= 2) {
+        models.clear();
+        double worst = 0.0;
+        const Vec3 size = leafBox.extent() / double(split);
+        for (int z = 0; z < split; ++z)
+            for (int y = 0; y < split; ++y)
+                for (int x = 0; x < split; ++x) {
+                    const Vec3 lower = leafBox.lower + size.cwiseProduct(Vec3(x, y, z));
+                    std::optional<VariationalPatch> model = buildVariationalPatch(field, Box3(lower, lower + size));
+                    if (!model) return std::nullopt;  // Hermite constraints: no model
+                    worst = std::max(worst, model->valueError);
+                    models.push_back(std::move(*model));
+                }
+        if (worst <= tolerance || split == kFinestSplit) break;
+    }
+    // The tree's gradient is a convex combination of its leaves' (min, max,
+    // the polynomial smooth min, negation, offsets), so the largest leaf
+    // bound bounds it; the models bound the variational leaf's far more
+    // tightly than interval sums over the part do.
+    double lipschitz = 0.0;
+    for (const VariationalPatch& model : models) lipschitz = std::max(lipschitz, placement.gradientScale * model.lipschitz);
+    for (const FieldInstruction& in : program.instructions()) {
+        if (in.op != FieldOp::Leaf || in.a == leaf) continue;
+        const FieldLeaf& other = program.leaf(in.a);
+        const Box3 otherBox =
+            other.placement.identity ? part : transformBox(other.placement.linear, other.placement.offset, part);
+        lipschitz = std::max(lipschitz, other.placement.gradientScale *
+                                            std::visit([&](const auto& s) { return s.lipschitz(otherBox); }, other.shape));
+    }
+    a.parts = {part};
+    a.tracer = std::make_unique<VariationalCsgCellTracer>(program, leaf, leafBox, split, std::move(models),
+                                                          lipschitz * (1.0 + 1e-12), field.termCount());
+    return a;
+}
+
+}  // namespace isotrace::geometry
