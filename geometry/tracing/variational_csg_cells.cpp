@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "geometry/bracketed_root.h"
 #include "geometry/variational/variational_patch.h"
 
 namespace isotrace::geometry {
@@ -18,7 +19,8 @@ class VariationalCsgCellTracer final : public CellTracer {
 public:
     VariationalCsgCellTracer(FieldProgram program, uint32_t leaf, const Box3& leafBox, int split,
                              std::vector<VariationalPatch> models, double lipschitz, size_t terms)
-        : program_(std::move(program)), leaf_(leaf), placement_(program_.leaf(leaf).placement), leafBox_(leafBox),
+        : program_(std::move(program)), leaf_(leaf), placement_(program_.leaf(leaf).placement),
+          field_(std::get<VariationalLeafField>(program_.leaf(leaf).shape).field.get()), leafBox_(leafBox),
           split_(split), models_(std::move(models)), lipschitz_(lipschitz), terms_(terms) {}
 
     CellTraceResult trace(uint32_t, const Vec3& origin, const Vec3& direction, double t0, double t1,
@@ -27,11 +29,11 @@ public:
         const double speed = direction.norm();
         if (!(speed > 0) || !(t1 >= t0)) return r;
         const double minStep = settings.epsilon / speed, stepScale = 1.0 / (std::max(lipschitz_, 1e-300) * speed);
+        // The ray in the leaf's frame (an affine map keeps t).
+        Vec3 leafOrigin, leafDirection;
+        rayInLeafFrame(placement_, origin, direction, leafOrigin, leafDirection);
+        const double leafSpeed = leafDirection.norm();
         int exactSteps = 0;
-        auto exactAt = [&](double t) {
-            ++exactSteps;
-            return program_.value(origin + t * direction);
-        };
         auto finish = [&](bool hit, double t) {
             r.hit = hit;
             r.t = t;
@@ -39,48 +41,113 @@ public:
             r.steps += exactSteps;
             return r;
         };
+        // One exact evaluation of the leaf (value and gradient) corrects its
+        // model near it: e = f - model is known there with its slope along
+        // the ray, and the model's gradient and Hessian errors bound how fast
+        // that knowledge fades. Valid within the anchor's own model.
+        struct Anchor {
+            const VariationalPatch* patch = nullptr;
+            double t = 0, offset = 0, offsetSlope = 0;
+        } anchor;
+        // The leaf's value at t lies in [lo, hi]; its best estimate is `centre`.
+        auto leafInterval = [&](double t, const VariationalPatch& patch, double& lo, double& hi, double& centre) {
+            const double model = patch.value(leafOrigin + t * leafDirection);
+            lo = model - patch.valueError;
+            hi = model + patch.valueError;
+            centre = model;
+            if (anchor.patch != &patch) return;
+            const double dt = t - anchor.t, noise = patch.evaluationNoise;
+            const double first = model + anchor.offset, firstDrift = patch.gradientError * leafSpeed * std::abs(dt) + noise;
+            const double second = first + anchor.offsetSlope * dt,
+                         secondDrift = 0.5 * patch.hessianError * leafSpeed * leafSpeed * dt * dt + noise;
+            lo = std::max({lo, first - firstDrift, second - secondDrift});
+            hi = std::min({hi, first + firstDrift, second + secondDrift});
+            centre = second;
+        };
+        auto anchorAt = [&](double t, const VariationalPatch& patch) {
+            const Vec3 q = leafOrigin + t * leafDirection;
+            Vec3 gradient, modelGradient;
+            const double exact = field_->valueAndGradient(q, gradient);
+            ++exactSteps;
+            const double model = patch.valueAndGradient(q, modelGradient);
+            anchor = {&patch, t, exact - model, (gradient - modelGradient).dot(leafDirection)};
+        };
+        // The tree's value with the leaf at `leafValue` (leaf units).
+        auto tree = [&](double t, double leafValue) {
+            return program_.valueWithLeafValue(origin + t * direction, leaf_, placement_.valueScale * leafValue);
+        };
+
         int previousSign = 0;
-        double tPrevious = t0, fPrevious = NAN;  // the exact value there, when it was needed
+        double tPrevious = t0;
         double t = t0;
         while (r.steps + exactSteps < settings.maxSteps) {
-            const Vec3 p = origin + t * direction;
-            // The tree at both ends of the leaf's interval.
-            const Vec3 q = placement_.leafFromWorld(p);
-            const VariationalPatch& patch = modelAt(q);
-            const double model = patch.value(q);
-            const double a = program_.valueWithLeafValue(p, leaf_, placement_.valueScale * (model - patch.valueError));
-            const double b = program_.valueWithLeafValue(p, leaf_, placement_.valueScale * (model + patch.valueError));
+            const VariationalPatch& patch = modelAt(leafOrigin + t * leafDirection);
+            double lo, hi, centre;
+            leafInterval(t, patch, lo, hi, centre);
+            double a = tree(t, lo), b = tree(t, hi);
             ++r.steps;
-            int sign;
-            double margin, exact = NAN;
-            if (std::min(a, b) > 0) {
-                sign = 1;
-                margin = std::min(a, b);
-            } else if (std::max(a, b) < 0) {
-                sign = -1;
-                margin = -std::max(a, b);
-            } else {
-                // Within about the model's error of the surface: the exact tree.
-                exact = exactAt(t);
-                if (exact == 0.0) return finish(true, t);
-                sign = exact < 0 ? -1 : 1;
-                margin = std::abs(exact);
+            if (std::min(a, b) <= 0 && std::max(a, b) >= 0 && !(anchor.patch == &patch && anchor.t == t)) {
+                // Not certain: anchor here and ask again (exactly, at the anchor).
+                anchorAt(t, patch);
+                leafInterval(t, patch, lo, hi, centre);
+                a = tree(t, lo);
+                b = tree(t, hi);
             }
+            const double estimate = tree(t, centre);
+            int sign = 0;
+            double margin = 0.0;
+            if (std::min(a, b) > 0) sign = 1, margin = std::min(a, b);
+            else if (std::max(a, b) < 0) sign = -1, margin = -std::max(a, b);
+            else if (estimate == 0.0) return finish(true, t);
+            else sign = estimate < 0 ? -1 : 1;  // within rounding of the surface at the anchor
             if (previousSign != 0 && sign != previousSign) {
-                // The root is in [tPrevious, t]: settle it on the exact tree.
-                const double fa = std::isnan(fPrevious) ? exactAt(tPrevious) : fPrevious;
-                const double fb = std::isnan(exact) ? exactAt(t) : exact;
-                if ((fa < 0) != (fb < 0)) {
-                    int evaluations = 0;
-                    const double root =
-                        refineRoot(program_, origin, direction, tPrevious, fa, t, fb, 1e-3 * minStep, &evaluations);
-                    exactSteps += evaluations;
-                    return finish(true, root);
+                // The root is in [tPrevious, t]: on the anchored model where
+                // the anchor reaches (its drift over a step is far below the
+                // resolution), else on the exact tree.
+                int evaluations = 0;
+                auto corrected = [&](double u) {
+                    double l, h, c;
+                    leafInterval(u, patch, l, h, c);
+                    return tree(u, c);
+                };
+                double root = NAN;
+                if (&modelAt(leafOrigin + tPrevious * leafDirection) == &patch) {
+                    // The anchored model's drift over the bracket, as a
+                    // distance along the ray, must be far below resolution:
+                    // else anchor again at t, next to the root.
+                    auto settle = [&] {
+                        if (anchor.patch != &patch) return false;
+                        const double dt = std::max(std::abs(t - anchor.t), std::abs(tPrevious - anchor.t));
+                        const double drift =
+                            placement_.valueScale * (0.5 * patch.hessianError * leafSpeed * leafSpeed * dt * dt +
+                                                     patch.evaluationNoise);
+                        const double fa = corrected(tPrevious), fb = corrected(t);
+                        const double slope = std::abs(fb - fa) / std::max(t - tPrevious, 1e-300);
+                        if ((fa < 0) == (fb < 0) || drift > 1e-2 * minStep * slope) return false;
+                        root = bracketedRoot(corrected, tPrevious, fa, t, fb, 1e-3 * minStep, &evaluations);
+                        r.steps += evaluations + 2;
+                        return true;
+                    };
+                    if (!settle() && !(anchor.patch == &patch && anchor.t == t)) {
+                        anchorAt(t, patch);
+                        settle();
+                    }
                 }
+                if (std::isnan(root)) {
+                    const double fa = program_.value(origin + tPrevious * direction);
+                    const double fb = program_.value(origin + t * direction);
+                    exactSteps += 2;
+                    if ((fa < 0) == (fb < 0)) {
+                        previousSign = 0;  // rounding: start afresh from here
+                        continue;
+                    }
+                    root = refineRoot(program_, origin, direction, tPrevious, fa, t, fb, 1e-3 * minStep, &evaluations);
+                    exactSteps += evaluations;
+                }
+                return finish(true, root);
             }
             previousSign = sign;
             tPrevious = t;
-            fPrevious = exact;
             if (t >= t1) return finish(false, 0.0);
             const double step = margin * stepScale;
             if (step >= minStep && t + step >= t1) return finish(false, 0.0);  // no zero up to the end
@@ -112,6 +179,7 @@ private:
     FieldProgram program_;
     uint32_t leaf_;
     LeafPlacement placement_;
+    const VariationalField* field_;  ///< the leaf's, owned by program_
     Box3 leafBox_;  ///< the part in the leaf's frame, split into split^3 boxes with a model each
     int split_;
     std::vector<VariationalPatch> models_;  ///< of the variational leaf, in its frame, x fastest
