@@ -155,13 +155,13 @@ public:
             // the general tracer's does.
             t = std::min(t + std::max(step, minStep), t1);
         }
-        // Out of steps (a ray grazing the surface): the general tracer settles
-        // the rest, from the last point whose sign is known.
-        finish(false, 0.0);
-        r.complete = false;
-        r.t = tPrevious;
-        r.restEnd = t1;
-        return r;
+        // Out of steps (a ray grazing the surface): the exact tree settles the
+        // rest from the last point whose sign is known, with the models'
+        // gradient bound rather than the cell's interval one (often tens of
+        // times larger).
+        const TraceResult rest = sphereTrace(program_, lipschitz_, origin, direction, tPrevious, t1, settings);
+        exactSteps += rest.steps;
+        return finish(rest.hit, rest.t);
     }
 
 private:
