@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <memory>
 #include <random>
 
 #include "geometry/tracing/implicit_surface.h"
@@ -13,6 +14,15 @@
 #include "support/random_rays.h"
 
 namespace isotrace::testing {
+
+/// Options whose only accelerator is `Accelerator`: it takes every cell it
+/// can, and the general tracer marches the rest.
+template <class Accelerator>
+geometry::ImplicitSurfaceOptions onlyAccelerator() {
+    geometry::ImplicitSurfaceOptions options;
+    options.cellAccelerators = {std::make_shared<Accelerator>()};
+    return options;
+}
 
 /// `fastOptions` chooses the accelerators under test (all by default).
 inline void expectSameHitsAsMarching(const geometry::FieldProgram& program, int rays, int minimumHits,

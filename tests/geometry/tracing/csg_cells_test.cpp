@@ -16,11 +16,7 @@ using isotrace::testing::compileField;
 
 namespace {
 
-ImplicitSurfaceOptions csgOnly() {
-    ImplicitSurfaceOptions options;
-    options.cellAccelerators = {std::make_shared<CsgCellAccelerator>()};
-    return options;
-}
+ImplicitSurfaceOptions csgOnly() { return isotrace::testing::onlyAccelerator<CsgCellAccelerator>(); }
 
 void expectCsgAgreesWithMarching(const char* description, int minimumSecondaryHits) {
     const FieldProgram program = compileField(description);

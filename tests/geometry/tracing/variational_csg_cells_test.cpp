@@ -20,11 +20,7 @@ using isotrace::testing::compileField;
 
 namespace {
 
-ImplicitSurfaceOptions modelledCsgOnly() {
-    ImplicitSurfaceOptions options;
-    options.cellAccelerators = {std::make_shared<VariationalCsgCellAccelerator>()};
-    return options;
-}
+ImplicitSurfaceOptions modelledCsgOnly() { return isotrace::testing::onlyAccelerator<VariationalCsgCellAccelerator>(); }
 
 // A scanned sphere of radius 10, brought to radius 1.
 std::string sphereScan() {
