@@ -8,18 +8,16 @@ namespace isotrace::geometry {
 
 namespace {
 
-class BoxCellTracer final : public CellTracer {
+class BoxCellTracer final : public ShapeCellTracer<BoxField> {
 public:
     BoxCellTracer(const ShapeCell<BoxField>& cell, RoundedBoxPieces pieces)
-        : box_(*cell.shape), placement_(*cell.placement), sign_(cell.sign()), part_(cell.part), pieces_(std::move(pieces)) {}
+        : ShapeCellTracer(cell), pieces_(std::move(pieces)) {}
 
     CellTraceResult trace(uint32_t, const Vec3& origin, const Vec3& direction, double t0, double t1,
                           const TraceSettings&) const override {
-        Vec3 o, d;
-        rayInLeafFrame(placement_, origin, direction, o, d);
-        if (!placement_.identity && !clipRayToBox(part_, o, d, t0, t1)) return {};
         CellTraceResult r;
-        if (!(t1 > t0)) return r;
+        Vec3 o, d;
+        if (!leafSegment(origin, direction, o, d, t0, t1)) return r;
         // The solid is convex: within [t0, t1] the ray is inside it on one
         // interval, the union of its intervals in the pieces reaching the cell.
         double enter, leave;
@@ -30,16 +28,12 @@ public:
         // Entering from outside, or, when inside at t0, leaving.
         const double t = enter > t0 ? enter : leave < t1 ? leave : NAN;
         if (!std::isfinite(t)) return r;
-        recordHit(r, t, box_, o, d, placement_, sign_);
+        recordShapeHit(r, t, o, d);
         return r;
     }
 
 private:
-    BoxField box_;
-    LeafPlacement placement_;
-    double sign_;  ///< -1 for the complement (a carving box)
-    Box3 part_;    ///< in the leaf's frame
-    RoundedBoxPieces pieces_;
+    RoundedBoxPieces pieces_;  ///< those that reach the part
 };
 
 }  // namespace

@@ -124,6 +124,32 @@ struct ShapeCell {
     double sign() const { return negated ? -1.0 : 1.0; }
 };
 
+/// The tracer of a ShapeCell: the shape, its placement, the sign and the
+/// part, and the ray's segment in the leaf's frame.
+template <typename Shape>
+class ShapeCellTracer : public CellTracer {
+protected:
+    explicit ShapeCellTracer(const ShapeCell<Shape>& cell)
+        : shape_(*cell.shape), placement_(*cell.placement), sign_(cell.sign()), part_(cell.part) {}
+
+    /// The ray in the leaf's frame and its segment clipped to the part (a
+    /// turned part's world box holds more than the part); false when nothing
+    /// of the segment is left.
+    bool leafSegment(const Vec3& origin, const Vec3& direction, Vec3& o, Vec3& d, double& t0, double& t1) const {
+        rayInLeafFrame(placement_, origin, direction, o, d);
+        if (!placement_.identity && !clipRayToBox(part_, o, d, t0, t1)) return false;
+        return t1 > t0;
+    }
+    void recordShapeHit(CellTraceResult& r, double t, const Vec3& o, const Vec3& d) const {
+        recordHit(r, t, shape_, o, d, placement_, sign_);
+    }
+
+    Shape shape_;
+    LeafPlacement placement_;
+    double sign_;  ///< -1 for the complement (a carving operand)
+    Box3 part_;    ///< in the leaf's frame
+};
+
 class CellAccelerator {
 public:
     virtual ~CellAccelerator() = default;

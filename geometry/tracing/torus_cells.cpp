@@ -6,34 +6,25 @@ namespace isotrace::geometry {
 
 namespace {
 
-class TorusCellTracer final : public CellTracer {
+class TorusCellTracer final : public ShapeCellTracer<TorusField> {
 public:
-    explicit TorusCellTracer(const ShapeCell<TorusField>& cell)
-        : torus_(*cell.shape), placement_(*cell.placement), sign_(cell.sign()), part_(cell.part) {}
+    explicit TorusCellTracer(const ShapeCell<TorusField>& cell) : ShapeCellTracer(cell) {}
 
     CellTraceResult trace(uint32_t, const Vec3& origin, const Vec3& direction, double t0, double t1,
                           const TraceSettings& settings) const override {
-        Vec3 o, D;
-        rayInLeafFrame(placement_, origin, direction, o, D);
-        if (!placement_.identity && !clipRayToBox(part_, o, D, t0, t1)) return {};
         CellTraceResult r;
-        if (!(t1 > t0)) return r;
+        Vec3 o, D;
+        if (!leafSegment(origin, direction, o, D, t0, t1)) return r;
         double tc;
-        const Monomials<4> quartic = torusQuarticAlongRay(torus_, o, D, tc);
+        const Monomials<4> quartic = torusQuarticAlongRay(shape_, o, D, tc);
         BernsteinRootStats stats;
         const auto s = firstBernsteinRoot<4>(quartic, t0 - tc, t1 - tc, settings.epsilon / direction.norm(), &stats);
         r.steps = 1 + stats.subdivisions;
         r.evaluations = uint64_t(r.steps + stats.evaluations);
         if (!s) return r;
-        recordHit(r, tc + *s, torus_, o, D, placement_, sign_);
+        recordShapeHit(r, tc + *s, o, D);
         return r;
     }
-
-private:
-    TorusField torus_;
-    LeafPlacement placement_;
-    double sign_;  ///< -1 for the complement (a carving torus)
-    Box3 part_;    ///< in the leaf's frame
 };
 
 }  // namespace
