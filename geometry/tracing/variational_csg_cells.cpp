@@ -93,13 +93,18 @@ public:
                 a = tree(t, lo);
                 b = tree(t, hi);
             }
-            const double estimate = tree(t, centre);
             int sign = 0;
             double margin = 0.0;
-            if (std::min(a, b) > 0) sign = 1, margin = std::min(a, b);
-            else if (std::max(a, b) < 0) sign = -1, margin = -std::max(a, b);
-            else if (estimate == 0.0) return finish(true, t);
-            else sign = estimate < 0 ? -1 : 1;  // within rounding of the surface at the anchor
+            if (std::min(a, b) > 0) {
+                sign = 1, margin = std::min(a, b);
+            } else if (std::max(a, b) < 0) {
+                sign = -1, margin = -std::max(a, b);
+            } else {
+                // Within rounding of the surface at the anchor: the best estimate's sign.
+                const double estimate = tree(t, centre);
+                if (estimate == 0.0) return finish(true, t);
+                sign = estimate < 0 ? -1 : 1;
+            }
             if (previousSign != 0 && sign != previousSign) {
                 // The root is in [tPrevious, t]: on the anchored model where
                 // the anchor reaches (its drift over a step is far below the
