@@ -580,7 +580,11 @@ void MpuField::finish() {
     // raised for rounding): its gradient g + 2 A y moves at most 2 |A| |dy|.
     pieceCurvatures_.resize(pieces_.size());
     for (size_t i = 0; i < pieces_.size(); ++i) pieceCurvatures_[i] = pieces_[i].A.norm() * (1 + 1e-12) + 1e-300;
-    typicalTerms_ = std::max<size_t>(1, cellItems_.size() / cells);
+    // An interpolant's evaluation sums its centres: the typical cost counts those.
+    size_t centres = 0;
+    for (const VariationalField& f : interpolants_) centres += f.termCount();
+    const size_t perLocal = interpolants_.empty() ? 1 : std::max<size_t>(1, centres / interpolants_.size());
+    typicalTerms_ = std::max<size_t>(1, cellItems_.size() / cells) * perLocal;
     // Every point of the domain lies in a leaf cell, at most half its
     // diagonal from the centre, and that cell's ball has a radius of at
     // least `support` diagonals: its weight there is at least this.

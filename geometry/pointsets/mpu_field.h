@@ -141,7 +141,8 @@ public:
     Interval range(const Box3& box) const;
     double lipschitz(const Box3& box) const;
     Box3 bounds() const { return domain_; }
-    /// Local functions blended at a typical point (evaluation cost).
+    /// Terms summed at a typical point (evaluation cost): local functions,
+    /// or for interpolants their centres.
     size_t termCount() const { return typicalTerms_; }
 
     /// A faint background term keeps f defined beyond the balls: weight

@@ -19,13 +19,14 @@
 #include "geometry/tracing/sphere_cells.h"
 #include "geometry/tracing/torus_cells.h"
 #include "geometry/tracing/mpu_cells.h"
+#include "geometry/tracing/partitioned_variational_cells.h"
 #include "geometry/tracing/variational_cells.h"
 
 namespace isotrace::geometry {
 
 std::vector<std::shared_ptr<const CellAccelerator>> defaultCellAccelerators() {
     return {std::make_shared<VariationalCellAccelerator>(), std::make_shared<VariationalCsgCellAccelerator>(),
-            std::make_shared<MpuCellAccelerator>(),
+            std::make_shared<MpuCellAccelerator>(), std::make_shared<PartitionedVariationalCellAccelerator>(),
             std::make_shared<BlobCellAccelerator>(), std::make_shared<PolynomialCellAccelerator>(),
             std::make_shared<SphereCellAccelerator>(), std::make_shared<TorusCellAccelerator>(),
             std::make_shared<BoxCellAccelerator>(), std::make_shared<CsgCellAccelerator>()};
