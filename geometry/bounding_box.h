@@ -35,6 +35,7 @@ struct Box3 {
     bool contains(const Vec3& p) const {
         return (p.array() >= lower.array()).all() && (p.array() <= upper.array()).all();
     }
+    bool contains(const Box3& b) const { return contains(b.lower) && contains(b.upper); }
     void extend(const Vec3& p) {
         lower = lower.cwiseMin(p);
         upper = upper.cwiseMax(p);

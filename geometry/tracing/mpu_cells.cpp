@@ -159,10 +159,6 @@ private:
     std::vector<uint32_t> locals_;
 };
 
-bool inside(const Box3& inner, const Box3& outer) {
-    return (inner.lower.array() >= outer.lower.array()).all() && (inner.upper.array() <= outer.upper.array()).all();
-}
-
 }  // namespace
 
 std::optional<CellAcceleration> MpuCellAccelerator::accelerate(const FieldProgram& program, const Box3& box,
@@ -176,7 +172,7 @@ std::optional<CellAcceleration> MpuCellAccelerator::accelerate(const FieldProgra
     const LeafPlacement& placement = leaf->placement;
     const Box3 leafBox = placement.identity ? box : transformBox(placement.linear, placement.offset, box);
     // Beyond the domain the background term is a distance, not a polynomial.
-    if (!inside(leafBox, field.bounds())) return std::nullopt;
+    if (!field.bounds().contains(leafBox)) return std::nullopt;
 
     std::vector<MpuPart> parts;
     std::vector<uint32_t> locals, touching;

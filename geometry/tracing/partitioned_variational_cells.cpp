@@ -304,10 +304,6 @@ private:
     double background_;                     ///< the background's share of N inside the domain
 };
 
-bool inside(const Box3& inner, const Box3& outer) {
-    return (inner.lower.array() >= outer.lower.array()).all() && (inner.upper.array() <= outer.upper.array()).all();
-}
-
 }  // namespace
 
 std::optional<CellAcceleration> PartitionedVariationalCellAccelerator::accelerate(const FieldProgram& program,
@@ -320,7 +316,7 @@ std::optional<CellAcceleration> PartitionedVariationalCellAccelerator::accelerat
     const LeafPlacement& placement = leaf->placement;
     const Box3 leafBox = placement.identity ? box : transformBox(placement.linear, placement.offset, box);
     // Beyond the domain the background term is a distance, not a constant.
-    if (!inside(leafBox, field.bounds())) return std::nullopt;
+    if (!field.bounds().contains(leafBox)) return std::nullopt;
     const double tolerance = kRelativeTolerance * surfaceDiagonal / placement.valueScale;
 
     std::vector<ModelledPart> parts;

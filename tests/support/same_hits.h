@@ -70,4 +70,17 @@ inline void expectSameHitsAsMarching(const geometry::FieldProgram& program, int 
     EXPECT_GE(secondaryHits, minimumSecondaryHits);
 }
 
+/// Field terms summed per ray (the trace counters' evaluations: exact terms
+/// and model monomials alike) over `rays` random rays through the bounds.
+inline double evaluationsPerRay(const geometry::ImplicitSurface& surface, int rays = 200) {
+    geometry::TraceCounters& counters = geometry::threadTraceCounters();
+    std::mt19937 rng(5);
+    const uint64_t before = counters.evaluations;
+    for (int i = 0; i < rays; ++i) {
+        const auto ray = randomRayAt(surface.bounds(), rng);
+        surface.intersect(ray.origin, ray.direction, 0.0, 1e30);
+    }
+    return double(counters.evaluations - before) / double(rays);
+}
+
 }  // namespace isotrace::testing

@@ -55,17 +55,8 @@ TEST(PartitionedVariationalCells, SumFarFewerTermsThanMarching) {
     marching.cellAccelerators.clear();
     const ImplicitSurface fast(program, partitionedOnly()), exact(program, marching);
     ASSERT_GT(fast.acceleratedCellCount(), 0u);
-    TraceCounters& counters = threadTraceCounters();
-    auto termsPerRay = [&](const ImplicitSurface& surface) {
-        std::mt19937 rng(5);
-        const uint64_t before = counters.evaluations;
-        for (int i = 0; i < 100; ++i) {
-            const auto ray = isotrace::testing::randomRayAt(surface.bounds(), rng);
-            surface.intersect(ray.origin, ray.direction, 0.0, 1e30);
-        }
-        return double(counters.evaluations - before) / 100.0;
-    };
-    const double modelled = termsPerRay(fast), marched = termsPerRay(exact);
+    const double modelled = isotrace::testing::evaluationsPerRay(fast, 100),
+                 marched = isotrace::testing::evaluationsPerRay(exact, 100);
     EXPECT_LT(modelled, 0.2 * marched) << "terms per ray: modelled " << modelled << ", marched " << marched;
 }
 

@@ -69,16 +69,7 @@ TEST(VariationalCsgCells, SumFarFewerTermsThanMarching) {
     ImplicitSurfaceOptions marching;
     marching.cellAccelerators.clear();
     const ImplicitSurface fast(program, modelledCsgOnly()), exact(program, marching);
-    TraceCounters& counters = threadTraceCounters();
-    auto termsPerRay = [&](const ImplicitSurface& surface) {
-        std::mt19937 rng(5);
-        const uint64_t before = counters.evaluations;
-        for (int i = 0; i < 200; ++i) {
-            const auto ray = isotrace::testing::randomRayAt(surface.bounds(), rng);
-            surface.intersect(ray.origin, ray.direction, 0.0, 1e30);
-        }
-        return double(counters.evaluations - before) / 200.0;
-    };
-    const double modelled = termsPerRay(fast), marched = termsPerRay(exact);
+    const double modelled = isotrace::testing::evaluationsPerRay(fast, 200),
+                 marched = isotrace::testing::evaluationsPerRay(exact, 200);
     EXPECT_LT(modelled, 0.2 * marched) << "terms per ray: modelled " << modelled << ", marched " << marched;
 }
