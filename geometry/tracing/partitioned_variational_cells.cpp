@@ -203,10 +203,12 @@ public:
             } else if (n.hi < 0) {
                 sign = -1, margin = -n.hi;
             } else {
-                // Within rounding of the surface at the anchor: the best estimate's sign.
-                if (n.centre == 0.0) return hitAt(finish(true, t), part, o, d);
-                sign = n.centre < 0 ? -1 : 1;
+                // Within rounding of the surface at the anchor: the best
+                // estimate's sign (0: on it).
+                sign = n.centre < 0 ? -1 : (n.centre > 0 ? 1 : 0);
             }
+            const double radius = margin > 0 ? provenRadius(n, margin) : 0.0;
+            if (sign == 0) return hitAt(finish(true, t), part, o, d);
             if (previousSign != 0 && sign != previousSign) {
                 // The root is in [tPrevious, t], a forced step at most: on
                 // the anchored models where their drift over the bracket is
@@ -245,7 +247,6 @@ public:
             previousSign = sign;
             tPrevious = t;
             if (t >= t1) return finish(false, 0.0);
-            const double radius = margin > 0 ? provenRadius(n, margin) : 0.0;
             const bool forced = radius < minStep;  // may skip a sliver thinner than epsilon, as the general tracer's
             if (!forced && t + radius >= t1) return finish(false, 0.0);
             t = std::min(t + std::max(radius, minStep), t1);
@@ -279,15 +280,13 @@ private:
         }
     }
 
-    // The hit's gradient from the models, grad f = (grad N - f grad W) / W:
-    // its error is the models' gradient errors weighed, far below what
-    // shading can see.
+    // The hit's gradient, exactly: the models' would carry their value
+    // errors times the weights' slopes (degrees off on the hand).
     CellTraceResult hitAt(CellTraceResult r, const ModelledPart& part, const Vec3& o, const Vec3& d) const {
-        const Vec3 x = o + r.t * d;
-        double n = background_, w = MpuField::kBackgroundWeight;
-        Vec3 gradientN = Vec3::Zero(), gradientW = Vec3::Zero();
-        accumulateGradients(part, x, n, w, gradientN, gradientW);
-        const Vec3 gradient = (gradientN - (n / w) * gradientW) / w;
+        Vec3 gradient;
+        field_->valueAndGradient(o + r.t * d, gradient,
+                                 std::span<const uint32_t>(localIndices_.data() + part.first, part.count));
+        r.evaluations += field_->termCount();
         if (gradient.allFinite() && gradient.squaredNorm() > 0) {
             r.gradientKnown = true;
             r.gradient = worldGradient(placement_, gradient);
@@ -303,6 +302,28 @@ private:
     std::vector<VariationalPatch> models_;  ///< their models over the part, in the same order
     double background_;                     ///< the background's share of N inside the domain
 };
+
+// Whether N can vanish in the box: each model's range over it (error
+// included) weighted by the range of its weight there. Tighter than the
+// field's own range, which spans every interpolant's interval bound.
+bool mayHoldSurface(const MpuField& field, const Box3& box, const std::vector<uint32_t>& touching,
+                    const std::vector<VariationalPatch>& models) {
+    const double background = MpuField::kBackgroundWeight * field.backgroundMargin();
+    double lo = background, hi = background;
+    for (size_t k = 0; k < touching.size(); ++k) {
+        const MpuLocal& l = field.locals()[touching[k]];
+        const Interval distance = box.distanceRange(l.center);
+        auto weightAt = [&](double r) {
+            const double q = 1.0 - r * r / (l.radius * l.radius);
+            return q > 0 ? q * q * q : 0.0;
+        };
+        const double least = weightAt(distance.hi), most = weightAt(distance.lo);
+        const Interval& range = models[k].range;
+        lo += range.lo * (range.lo >= 0 ? least : most);
+        hi += range.hi * (range.hi >= 0 ? most : least);
+    }
+    return lo <= 0 && hi >= 0;
+}
 
 }  // namespace
 
@@ -358,6 +379,7 @@ std::optional<CellAcceleration> PartitionedVariationalCellAccelerator::accelerat
             declined = true;
             return;
         }
+        if (!mayHoldSurface(field, b, touching, partModels)) return;
         ModelledPart part{b, uint32_t(locals.size()), uint32_t(touching.size())};
         for (size_t k = 0; k < touching.size(); ++k) {
             const MpuLocal& l = field.locals()[touching[k]];

@@ -69,3 +69,11 @@ TEST(PartitionedVariationalCells, DenseFitsAndMpuFitsAreLeftToTheirOwnTracers) {
                               partitionedOnly());
     EXPECT_EQ(mpu.acceleratedCellCount(), 0u);
 }
+
+// The hand's thin fingers, whose models' errors times the weights' slopes
+// would tilt a normal by degrees if hits took their gradient from the models.
+TEST(PartitionedVariationalCells, HandAgreesWithMarching) {
+    const FieldProgram program = compileField(R"({"type": "variational", "solver": "partition", "mesh": ")" +
+                                              std::string(ISOTRACE_SOURCE_DIR) + R"(/scenes/meshes/hand.off"})");
+    isotrace::testing::expectSameHitsAsMarching(program, 200, 40, 0, 0.999, partitionedOnly());
+}
