@@ -32,9 +32,11 @@ namespace {
 // D^2 E allow (from the models' gradient and Hessian errors and the
 // weights' derivatives: |grad w| <= 1.72 / R, ||D^2 w|| <= 12 / R^2).
 
-// Models worse than this (relative to the surface's diagonal) split the part.
+// Models worse than this (relative to the surface's diagonal) split the
+// part, twice at most: on the partitioned hand a second halving halves the
+// render (1.77 -> 0.87 s at 64x48) for 1.7 s more loading and 60 MB.
 constexpr double kRelativeTolerance = 1e-3;
-constexpr int kMaxSplits = 1;
+constexpr int kMaxSplits = 2;
 // Models sum their near centres exactly at every step: where those are more
 // than this share of the interpolants' centres (dense data in a large part),
 // a model saves too little for its memory, and the cell is left to the
