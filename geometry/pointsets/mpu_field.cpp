@@ -14,29 +14,6 @@ namespace isotrace::geometry {
 
 namespace {
 
-double weightOf(double r2, double radius2) {
-    if (r2 >= radius2) return 0.0;
-    const double s = 1.0 - r2 / radius2;
-    return s * s * s;
-}
-
-// Largest |d/dr (1 - r^2/R^2)^3| is 6 t (1 - t^2)^2 / R at t = 1/sqrt 5.
-constexpr double kWeightSlope = 1.7173285067805897;
-
-// The largest |grad w| of a ball of radius R over distances in `distance`
-// from its centre: 6 r (1 - r^2/R^2)^2 / R^2 rises up to r = R / sqrt 5 and
-// falls after.
-double weightSlope(const Interval& distance, double R) {
-    const double peak = R / std::sqrt(5.0);
-    const double a = distance.lo, b = std::min(distance.hi, R);
-    if (a >= R) return 0.0;
-    auto slope = [&](double r) {
-        const double s = 1.0 - r * r / (R * R);
-        return 6.0 * r * s * s / (R * R);
-    };
-    return b <= peak ? slope(b) : a >= peak ? slope(a) : kWeightSlope / R;
-}
-
 void orthonormalFrame(const Vec3& n, Vec3& u, Vec3& v) {
     u = n.unitOrthogonal();
     v = n.cross(u);
@@ -150,7 +127,7 @@ public:
         : points_(points), near_(near), radius_(radius) {
         weights_.resize(near.size());
         for (size_t k = 0; k < near.size(); ++k)
-            weights_[k] = std::max(weightOf((points[near[k]].position - center).squaredNorm(), radius * radius), 1e-12);
+            weights_[k] = std::max(mpuWeight((points[near[k]].position - center).squaredNorm(), radius * radius), 1e-12);
     }
 
     /// Weighted centroid and mean unit normal of the points whose index in
@@ -770,8 +747,8 @@ double MpuField::valueAndSafeDistance(const Vec3& p, double& safeDistance) const
         const Interval distance{std::max(0.0, l.distance - h), l.distance + h};
         if (distance.lo >= l.radius) continue;
         const double gradient = l.gradient + 2.0 * l.curvature * h + 0.5 * l.third * h * h;
-        slope += weightSlope(distance, l.radius) * (std::abs(l.value) + gradient * h) +
-                 weightOf(distance.lo * distance.lo, l.radius * l.radius) * gradient;
+        slope += mpuWeightSlope(distance, l.radius) * (std::abs(l.value) + gradient * h) +
+                 mpuWeight(distance.lo * distance.lo, l.radius * l.radius) * gradient;
     }
     safeDistance = std::min(h, std::abs(N) / (slope * (1 + 1e-9)));
     return v;
@@ -794,7 +771,7 @@ Interval MpuField::range(const Box3& box) const {
         const Interval q = range(l, box);
         hull = {std::min(hull.lo, q.lo), std::max(hull.hi, q.hi)};
         const double R2 = l.radius * l.radius;
-        const Interval w{weightOf(distance.hi * distance.hi, R2), weightOf(distance.lo * distance.lo, R2)};
+        const Interval w{mpuWeight(distance.hi * distance.hi, R2), mpuWeight(distance.lo * distance.lo, R2)};
         const Interval term = w * q;
         weighted += term;
         weights += w;
@@ -819,9 +796,9 @@ double MpuField::lipschitz(const Box3& box) const {
         hull = {std::min(hull.lo, q.lo), std::max(hull.hi, q.hi)};
         gradientQ = std::max(gradientQ, gradientBound(l, box));
         const double R = l.radius;
-        slopes += weightSlope(distance, R);
+        slopes += mpuWeightSlope(distance, R);
         // Its weight is at least its value at the farthest point of the box.
-        if (distance.hi < R) weightBelow += weightOf(distance.hi * distance.hi, R * R);
+        if (distance.hi < R) weightBelow += mpuWeight(distance.hi * distance.hi, R * R);
     });
     // Inside the domain every point lies in a cell whose ball reaches it,
     // which bounds W from below; elsewhere only the weights' minima do.

@@ -25,6 +25,8 @@
 // 1 / (2 support) of its radius beyond it.
 #pragma once
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <memory>
 #include <span>
@@ -197,6 +199,31 @@ private:
     double backgroundMargin_ = 0.0;
     size_t typicalTerms_ = 1;
 };
+
+/// MPU's weight (1 - r^2 / R^2)^3 at squared distance r2 from the centre of
+/// a ball of squared radius R2; 0 beyond.
+inline double mpuWeight(double r2, double radius2) {
+    if (r2 >= radius2) return 0.0;
+    const double s = 1.0 - r2 / radius2;
+    return s * s * s;
+}
+
+/// The largest |d/dr (1 - r^2/R^2)^3| R: 6 t (1 - t^2)^2 at t = 1/sqrt 5.
+constexpr double kMpuWeightSlope = 1.7173285067805897;
+
+/// The largest |grad w| of a ball of radius R over distances in `distance`
+/// from its centre: 6 r (1 - r^2/R^2)^2 / R^2 rises up to r = R / sqrt 5 and
+/// falls after.
+inline double mpuWeightSlope(const Interval& distance, double R) {
+    const double peak = R / std::sqrt(5.0);
+    const double a = distance.lo, b = std::min(distance.hi, R);
+    if (a >= R) return 0.0;
+    auto slope = [&](double r) {
+        const double s = 1.0 - r * r / (R * R);
+        return 6.0 * r * s * s / (R * R);
+    };
+    return b <= peak ? slope(b) : a >= peak ? slope(a) : kMpuWeightSlope / R;
+}
 
 /// An MPU field as a leaf of field programs (shared, not copied).
 struct MpuLeafField {

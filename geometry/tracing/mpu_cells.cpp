@@ -63,10 +63,7 @@ bool fitBand(const MpuField& field, const Box3& box, std::span<const uint32_t> l
         const MpuLocal& l = field.locals()[i];
         const Interval distance = box.distanceRange(l.center);
         if (distance.lo >= l.radius) continue;
-        auto weightAt = [&](double r) {
-            const double s = 1.0 - r * r / (l.radius * l.radius);
-            return s > 0 ? s * s * s : 0.0;
-        };
+        auto weightAt = [&](double r) { return mpuWeight(r * r, l.radius * l.radius); };
         weightBelow += weightAt(distance.hi);
         // Q - L is a quadric of the same A; centred on the box, its range
         // is its value there plus the reach of its gradient and of A over

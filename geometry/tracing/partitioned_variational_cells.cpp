@@ -45,8 +45,8 @@ constexpr int kMaxSplits = 2;
 constexpr double kMostNearShare = 0.25;
 // Locals per part (a step's work and its stack arrays).
 constexpr size_t kMaxLocals = 96;
-// max |grad w| R = 6 / sqrt(5) (4 / 5)^2, at r = R / sqrt(5); max ||D^2 w|| R^2.
-constexpr double kWeightSlope = 1.7174, kWeightCurvature = 12.0;
+// max ||D^2 w|| R^2 (max |grad w| R is kMpuWeightSlope).
+constexpr double kWeightCurvature = 12.0;
 
 struct ModelledLocal {
     Vec3 center;
@@ -60,12 +60,6 @@ struct ModelledPart {
     /// Bounds on |grad E| and ||D^2 E|| over the box (E: see above).
     double errorSlope = 0.0, errorCurvature = 0.0;
 };
-
-// |grad w| = 6 r / R^2 (1 - r^2 / R^2)^2.
-double weightSlope(double r, double inverseRadius2) {
-    const double s = 1.0 - r * r * inverseRadius2;
-    return s > 0 ? 6.0 * r * inverseRadius2 * s * s : 0.0;
-}
 
 class PartitionedVariationalCellTracer final : public CellTracer {
 public:
@@ -165,12 +159,9 @@ public:
                     const ModelledLocal& l = locals_[part.first + k];
                     const double a = std::max(n.distance[k] - h, 0.0);
                     if (a >= l.radius) continue;
-                    const double b = std::min(n.distance[k] + h, l.radius), peak = l.radius / std::sqrt(5.0);
-                    const double q = 1.0 - a * a * l.inverseRadius2;
-                    const double slopeMax = (a <= peak && peak <= b) ? weightSlope(peak, l.inverseRadius2)
-                                                                     : std::max(weightSlope(a, l.inverseRadius2),
-                                                                                weightSlope(b, l.inverseRadius2));
-                    slope += slopeMax * (std::abs(n.value[k]) + l.valueError + l.lipschitz * h) + q * q * q * l.lipschitz;
+                    const double slopeMax = mpuWeightSlope({a, n.distance[k] + h}, l.radius);
+                    const double weightMax = mpuWeight(a * a, l.radius * l.radius);
+                    slope += slopeMax * (std::abs(n.value[k]) + l.valueError + l.lipschitz * h) + weightMax * l.lipschitz;
                 }
                 return std::min(h, margin / std::max(slope, 1e-300));
             };
@@ -315,11 +306,8 @@ bool mayHoldSurface(const MpuField& field, const Box3& box, const std::vector<ui
     for (size_t k = 0; k < touching.size(); ++k) {
         const MpuLocal& l = field.locals()[touching[k]];
         const Interval distance = box.distanceRange(l.center);
-        auto weightAt = [&](double r) {
-            const double q = 1.0 - r * r / (l.radius * l.radius);
-            return q > 0 ? q * q * q : 0.0;
-        };
-        const double least = weightAt(distance.hi), most = weightAt(distance.lo);
+        const double radius2 = l.radius * l.radius;
+        const double least = mpuWeight(distance.hi * distance.hi, radius2), most = mpuWeight(distance.lo * distance.lo, radius2);
         const Interval& range = models[k].range;
         lo += range.lo * (range.lo >= 0 ? least : most);
         hi += range.hi * (range.hi >= 0 ? most : least);
@@ -389,9 +377,9 @@ std::optional<CellAcceleration> PartitionedVariationalCellAccelerator::accelerat
             locals.push_back({l.center, l.radius, 1.0 / (l.radius * l.radius), m.valueError, m.lipschitz,
                               m.evaluationNoise});
             localIndices.push_back(touching[k]);
-            part.errorSlope += kWeightSlope / l.radius * m.valueError + m.gradientError;
+            part.errorSlope += kMpuWeightSlope / l.radius * m.valueError + m.gradientError;
             part.errorCurvature += kWeightCurvature / (l.radius * l.radius) * m.valueError +
-                                   2.0 * kWeightSlope / l.radius * m.gradientError + m.hessianError;
+                                   2.0 * kMpuWeightSlope / l.radius * m.gradientError + m.hessianError;
             models.push_back(std::move(partModels[k]));
         }
         parts.push_back(part);
