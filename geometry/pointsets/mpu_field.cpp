@@ -629,26 +629,35 @@ double MpuField::background(const Vec3& p, Vec3* gradient) const {
 }
 
 template <class ForLocals>
-double MpuField::blend(const Vec3& p, Vec3& gradient, ForLocals&& forLocals) const {
+MpuBlendSums MpuField::sums(const Vec3& p, ForLocals&& forLocals) const {
     Vec3 gb;
     const double b = background(p, &gb);
-    double W = kBackgroundWeight, F = kBackgroundWeight * b;
-    Vec3 dW = Vec3::Zero(), dF = kBackgroundWeight * gb;
+    MpuBlendSums s;
+    s.W = kBackgroundWeight;
+    s.N = kBackgroundWeight * b;
+    s.gradientW = Vec3::Zero();
+    s.gradientN = kBackgroundWeight * gb;
     forLocals([&](const Local& l) {
         const Vec3 r = p - l.center;
         const double r2 = r.squaredNorm(), R2 = l.radius * l.radius;
         if (r2 >= R2) return;
-        const double s = 1.0 - r2 / R2, w = s * s * s;
-        const Vec3 dw = (-6.0 * s * s / R2) * r;
+        const double sigma = 1.0 - r2 / R2, w = sigma * sigma * sigma;
+        const Vec3 dw = (-6.0 * sigma * sigma / R2) * r;
         Vec3 gq;
         const double q = evaluate(l, p, &gq);
-        W += w;
-        F += w * q;
-        dW += dw;
-        dF += dw * q + w * gq;
+        s.W += w;
+        s.N += w * q;
+        s.gradientW += dw;
+        s.gradientN += dw * q + w * gq;
     });
-    gradient = (dF * W - F * dW) / (W * W);
-    return F / W;
+    return s;
+}
+
+template <class ForLocals>
+double MpuField::blend(const Vec3& p, Vec3& gradient, ForLocals&& forLocals) const {
+    const MpuBlendSums s = sums(p, forLocals);
+    gradient = s.gradient();
+    return s.value();
 }
 
 double MpuField::valueAndGradient(const Vec3& p, Vec3& gradient) const {
@@ -657,6 +666,12 @@ double MpuField::valueAndGradient(const Vec3& p, Vec3& gradient) const {
 
 double MpuField::valueAndGradient(const Vec3& p, Vec3& gradient, std::span<const uint32_t> locals) const {
     return blend(p, gradient, [&](auto&& visit) {
+        for (const uint32_t i : locals) visit(locals_[i]);
+    });
+}
+
+MpuBlendSums MpuField::blendSums(const Vec3& p, std::span<const uint32_t> locals) const {
+    return sums(p, [&](auto&& visit) {
         for (const uint32_t i : locals) visit(locals_[i]);
     });
 }

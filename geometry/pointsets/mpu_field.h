@@ -108,6 +108,15 @@ T combineMpuPieces(const MpuLocal& l, const T* v, Larger larger, Smaller smaller
     return v[0];
 }
 
+/// The blend's sums at a point: f = N / W, with N = sum_i w_i Q_i and
+/// W = sum_i w_i (plus the background's term), and their gradients.
+struct MpuBlendSums {
+    double N = 0.0, W = 0.0;
+    Vec3 gradientN = Vec3::Zero(), gradientW = Vec3::Zero();
+    double value() const { return N / W; }
+    Vec3 gradient() const { return (gradientN * W - N * gradientW) / (W * W); }
+};
+
 struct MpuReport {
     size_t localFunctions = 0;
     size_t generalQuadrics = 0;  ///< cells where normals disagree
@@ -133,6 +142,9 @@ public:
     /// The same from a list of locals (indices into locals()) that holds
     /// every one whose ball reaches p, as a tracing part keeps them.
     double valueAndGradient(const Vec3& p, Vec3& gradient, std::span<const uint32_t> locals) const;
+    /// N and W and their gradients from such a list (tracers that root-find
+    /// on N, which has f's zeros and is smooth where f's quotient is not).
+    MpuBlendSums blendSums(const Vec3& p, std::span<const uint32_t> locals) const;
     /// Indices of the locals whose ball reaches the box.
     void localsTouching(const Box3& box, std::vector<uint32_t>& out) const;
     /// The value, and a radius around p proven free of zeros: from the
@@ -156,6 +168,8 @@ public:
     const std::vector<MpuLocal>& locals() const { return locals_; }
     const std::vector<MpuQuadric>& pieces() const { return pieces_; }
     const std::vector<VariationalField>& interpolants() const { return interpolants_; }
+    /// |A| of pieces()[i] (Frobenius, rounded up): at least |u^T A u| for unit u.
+    double pieceCurvature(size_t i) const { return pieceCurvatures_[i]; }
     /// Some local is an interpolant (tracers built for quadrics decline).
     bool hasInterpolants() const { return !interpolants_.empty(); }
     double support() const { return support_; }
@@ -178,6 +192,8 @@ private:
     template <class Visit>
     void forLocalsTouching(const Box3& box, Visit&& visit) const;
 
+    template <class ForLocals>
+    MpuBlendSums sums(const Vec3& p, ForLocals&& forLocals) const;
     template <class ForLocals>
     double blend(const Vec3& p, Vec3& gradient, ForLocals&& forLocals) const;
     double background(const Vec3& p, Vec3* gradient) const;

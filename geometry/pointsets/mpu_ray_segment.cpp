@@ -5,6 +5,7 @@
 #include <cmath>
 #include <vector>
 
+#include "geometry/quadratic_roots.h"
 #include "geometry/segment_polynomial.h"
 
 namespace isotrace::geometry {
@@ -26,25 +27,6 @@ Polynomial weightedPiece(const Monomials<6>& w, const std::array<double, 3>& q) 
     for (int i = 0; i <= 6; ++i)
         for (int j = 0; j <= 2; ++j) p[i + j] += w[i] * q[j];
     return p;
-}
-
-// The roots of a u^2 + b u + c in (lo, hi), ascending, appended to out.
-void rootsBetween(double a, double b, double c, double lo, double hi, double* out, int& count) {
-    if (a == 0.0) {
-        if (b != 0.0) {
-            const double u = -c / b;
-            if (u > lo && u < hi) out[count++] = u;
-        }
-        return;
-    }
-    const double disc = b * b - 4.0 * a * c;
-    if (disc < 0.0) return;
-    // The stable pair: q = -(b + sign(b) sqrt(disc)) / 2, roots q / a and c / q.
-    const double q = -0.5 * (b + std::copysign(std::sqrt(disc), b));
-    double r[2] = {q / a, q != 0.0 ? c / q : q / a};
-    if (r[0] > r[1]) std::swap(r[0], r[1]);
-    for (double u : r)
-        if (u > lo && u < hi) out[count++] = u;
 }
 
 struct PieceChoice {
@@ -97,7 +79,7 @@ MpuSegmentRoot firstRootAlongSegment(const MpuField& field, std::span<const uint
         if (l.count > 1)
             for (int i = 0; i < l.count; ++i)
                 for (int j = i + 1; j < l.count; ++j)
-                    rootsBetween(q[i][2] - q[j][2], q[i][1] - q[j][1], q[i][0] - q[j][0], enter, leave, bounds,
+                    quadraticRootsBetween(q[i][2] - q[j][2], q[i][1] - q[j][1], q[i][0] - q[j][0], enter, leave, bounds,
                                  boundCount);
         for (int i = 2; i < boundCount; ++i)  // insertion sort of at most six crossings
             for (int j = i; j > 1 && bounds[j - 1] > bounds[j]; --j) std::swap(bounds[j - 1], bounds[j]);

@@ -83,4 +83,47 @@ inline double evaluationsPerRay(const geometry::ImplicitSurface& surface, int ra
     return double(counters.evaluations - before) / double(rays);
 }
 
+/// The same on rays that graze the surface: from hits of random rays, rays
+/// along a tangent, shifted off the surface to either side by 1e-5 to 1e-2
+/// of the bounds' diagonal and tilted a little. Inside, they meet the
+/// surface twice close together; outside, they pass within a hair of it.
+/// This is where a tracer's proofs are tested hardest: a bound too small
+/// that calls a span monotone, or a sign proven, when it is not.
+inline void expectSameHitsOnGrazingRays(const geometry::FieldProgram& program, int rays, int minimumHits,
+                                        const geometry::ImplicitSurfaceOptions& fastOptions = {}) {
+    using geometry::Vec3;
+    geometry::ImplicitSurfaceOptions exactOptions;
+    exactOptions.cellAccelerators.clear();
+    geometry::ImplicitSurface fast(program, fastOptions), exact(program, exactOptions);
+    ASSERT_GT(fast.acceleratedCellCount(), 0u);
+    EmbreeScene fastScene, exactScene;
+    fastScene.attach(fast);
+    exactScene.attach(exact);
+    fastScene.commit();
+    exactScene.commit();
+    const double size = fast.bounds().extent().norm();
+    std::mt19937 rng(17);
+    std::normal_distribution<double> n;
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    int tried = 0, hits = 0;
+    for (int i = 0; tried < rays && i < 20 * rays; ++i) {
+        const auto ray = randomRayAt(exact.bounds(), rng);
+        const auto a = exactScene.intersect(ray.origin, ray.direction);
+        if (!a.hit) continue;
+        const Vec3 p = ray.origin + double(a.t) * ray.direction, normal = a.normal.normalized();
+        Vec3 tangent = Vec3(n(rng), n(rng), n(rng)).cross(normal).normalized();
+        const double side = (i % 2 ? 1.0 : -1.0) * size * std::pow(10.0, -5.0 + 3.0 * u(rng));
+        const Vec3 d = (tangent + 0.02 * n(rng) * normal).normalized().cast<float>().cast<double>();
+        const Vec3 o = (p + side * normal - 0.05 * size * d).cast<float>().cast<double>();
+        ++tried;
+        const auto c = fastScene.intersect(o, d), e = exactScene.intersect(o, d);
+        ASSERT_EQ(c.hit, e.hit) << "grazing ray " << tried << " at " << side / size << " of the diagonal";
+        if (!c.hit) continue;
+        ++hits;
+        ASSERT_NEAR(c.t, e.t, 1e-5 * size) << "grazing ray " << tried;
+    }
+    EXPECT_EQ(tried, rays);
+    EXPECT_GE(hits, minimumHits);
+}
+
 }  // namespace isotrace::testing

@@ -18,6 +18,7 @@ void expectSameHits(const MpuField& field, int rays) {
     FieldProgram program;
     program.addLeaf(MpuLeafField{std::make_shared<const MpuField>(field)});
     isotrace::testing::expectSameHitsAsMarching(program, rays, rays / 10, 10);
+    isotrace::testing::expectSameHitsOnGrazingRays(program, rays, rays / 10);
 }
 
 }  // namespace

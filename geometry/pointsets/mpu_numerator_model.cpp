@@ -1,0 +1,139 @@
+#include "geometry/pointsets/mpu_numerator_model.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace isotrace::geometry {
+
+namespace {
+
+// The piece a local takes at the box's centre, and whether it takes it all
+// over the box center +- half (false where its pieces cross there: a sharp
+// local's crease).
+struct PieceInEffect {
+    int index = 0;
+    bool throughout = true;
+};
+PieceInEffect pieceInEffect(const MpuField& field, const MpuLocal& l, const Vec3& center, const Vec3& half) {
+    if (l.count == 1) return {};
+    const MpuQuadric* q = &field.pieces()[l.first];
+    double v[3];
+    Vec3 g[3];
+    for (int k = 0; k < l.count; ++k) v[k] = q[k].evaluate(center, &g[k]);
+    int order[3][3] = {};  // +1 where piece i exceeds piece j all over the box, -1 where it is below
+    for (int i = 0; i < l.count; ++i)
+        for (int j = i + 1; j < l.count; ++j) {
+            const Interval d = quadraticRange(v[i] - v[j], g[i] - g[j], q[i].A - q[j].A, half);
+            order[i][j] = d.lo > 0 ? 1 : d.hi < 0 ? -1 : 0;
+            order[j][i] = -order[i][j];
+        }
+    struct Choice {
+        int index;  ///< -1: not known
+    };
+    auto pick = [&](Choice a, Choice b, int larger) {
+        if (a.index < 0 || b.index < 0) return Choice{-1};
+        const int o = order[a.index][b.index] * larger;
+        return o > 0 ? a : o < 0 ? b : Choice{-1};
+    };
+    const Choice pieces[3] = {{0}, {1}, {2}};
+    const int throughout = combineMpuPieces(
+                               l, pieces, [&](Choice a, Choice b) { return pick(a, b, 1); },
+                               [&](Choice a, Choice b) { return pick(a, b, -1); })
+                               .index;
+    if (throughout >= 0) return {throughout, true};
+    struct Valued {
+        double value;
+        int index;
+    };
+    const Valued at[3] = {{v[0], 0}, {v[1], 1}, {v[2], 2}};
+    const int central = combineMpuPieces(
+                            l, at, [](Valued a, Valued b) { return a.value >= b.value ? a : b; },
+                            [](Valued a, Valued b) { return a.value <= b.value ? a : b; })
+                            .index;
+    return {central, false};
+}
+
+}  // namespace
+
+Interval quadraticRange(double value, const Vec3& gradient, const Mat3& A, const Vec3& half) {
+    const double linear = gradient.cwiseAbs().dot(half);
+    double lo = value - linear, hi = value + linear;
+    for (int a = 0; a < 3; ++a) {
+        const double diagonal = A(a, a) * half[a] * half[a];
+        (diagonal < 0 ? lo : hi) += diagonal;
+        for (int b = a + 1; b < 3; ++b) {
+            const double cross = 2.0 * std::abs(A(a, b)) * half[a] * half[b];
+            lo -= cross;
+            hi += cross;
+        }
+    }
+    return {lo, hi};
+}
+
+MpuNumeratorModel fitMpuNumeratorModel(const MpuField& field, const Box3& box, std::span<const uint32_t> locals) {
+    const Vec3 c = box.center(), half = 0.5 * box.extent();
+    const double rho = half.norm();
+    MpuNumeratorModel m;
+    m.center = c;
+    m.value = MpuField::kBackgroundWeight * field.backgroundMargin();  // the background inside the domain
+    double third = 0.0, scale = std::abs(m.value), creaseValue = 0.0, creaseSlope = 0.0;
+    for (const uint32_t i : locals) {
+        const MpuLocal& l = field.locals()[i];
+        const Interval distance = box.distanceRange(l.center);
+        const double R = l.radius, R2 = R * R;
+        if (distance.lo >= R) continue;
+        const PieceInEffect piece = pieceInEffect(field, l, c, half);
+        const MpuQuadric& q = field.pieces()[l.first + piece.index];
+        Vec3 gq;
+        const double qc = q.evaluate(c, &gq);
+        const Vec3 r = c - l.center;
+        const double r2 = r.squaredNorm();
+        if (r2 < R2) {
+            // w Q's Hessian: Q Hw + dw gq^T + gq dw^T + w Hq, with
+            // Hw = 6 sigma ds ds^T - 6 sigma^2 / R^2 I and Hq = 2 A (A symmetric).
+            const double sigma = 1.0 - r2 / R2, w = sigma * sigma * sigma;
+            const Vec3 ds = (2.0 / R2) * r, dw = (-3.0 * sigma * sigma) * ds;
+            const double outer = 6.0 * sigma * qc, diagonal = 6.0 * sigma * sigma * qc / R2;
+            m.value += w * qc;
+            m.gradient += qc * dw + w * gq;
+            for (int i = 0; i < 3; ++i)
+                for (int j = i; j < 3; ++j)
+                    m.hessian(i, j) += outer * ds[i] * ds[j] + dw[i] * gq[j] + gq[i] * dw[j] + 2.0 * w * q.A(i, j);
+            for (int i = 0; i < 3; ++i) m.hessian(i, i) -= diagonal;
+        }
+        // Bounds of w's first three directional derivatives over the box.
+        const double sigmaMax = 1.0 - distance.lo * distance.lo / R2;
+        const double a = 2.0 * std::min(distance.hi, R) / R2, b = 2.0 / R2;
+        const double w1 = 3.0 * sigmaMax * sigmaMax * a, w2 = 6.0 * sigmaMax * a * a + 3.0 * sigmaMax * sigmaMax * b,
+                     w3 = 6.0 * a * a * a + 18.0 * sigmaMax * a * b;
+        const double hqNorm = 2.0 * field.pieceCurvature(l.first + piece.index);  // at least |u^T Hq u|
+        const double q0 = quadraticRange(qc, gq, q.A, half).magnitude(), q1 = gq.norm() + hqNorm * rho;
+        third += w3 * q0 + 3.0 * w2 * q1 + 3.0 * w1 * hqNorm;
+        const double w0 = sigmaMax * sigmaMax * sigmaMax;
+        scale += w0 * q0;
+        if (!piece.throughout) {
+            // Where the crease crosses the box the local is any of its
+            // pieces: w (S - Q_p) is an error of its own, bounded by the
+            // pieces' largest difference from Q_p and their gradients'.
+            double difference = 0.0, slopeDifference = 0.0;
+            for (int k = 0; k < l.count; ++k) {
+                const MpuQuadric& other = field.pieces()[l.first + k];
+                Vec3 gk;
+                const double vk = other.evaluate(c, &gk);
+                difference = std::max(difference, quadraticRange(vk - qc, gk - gq, other.A - q.A, half).magnitude());
+                slopeDifference = std::max(slopeDifference, (gk - gq).norm() + 2.0 * (other.A - q.A).norm() * rho);
+            }
+            creaseValue += w0 * difference;
+            creaseSlope += w1 * difference + w0 * slopeDifference;
+        }
+    }
+    // Rounding: exact sums are evaluated to about 1e-16 of their terms.
+    const double rounding = 1e-12 * scale;
+    m.valueError = (third * rho * rho * rho / 6.0 + creaseValue) * (1 + 1e-9) + rounding;
+    m.slopeError = (third * rho * rho / 2.0 + creaseSlope) * (1 + 1e-9) + rounding / std::max(rho, 1e-300);
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < i; ++j) m.hessian(i, j) = m.hessian(j, i);
+    return m;
+}
+
+}  // namespace isotrace::geometry

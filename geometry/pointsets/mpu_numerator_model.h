@@ -1,0 +1,59 @@
+// A second-order Taylor model of an MPU field's numerator over a box, with
+// proven errors. f = N / W with W > 0, so f and N = sum_i w_i Q_i (plus the
+// background's constant term inside the domain) share their zeros; about
+// the box's centre c,
+//   T(x) = N(c) + g . y + y^T H y / 2,  y = x - c,
+// and over the box |N - T| <= valueError, |d/du (N - T)| <= slopeError for
+// every unit u. Where |T| exceeds valueError, N has T's sign; where T's
+// slope along a ray beats slopeError, N is monotone along it. Tracers use
+// it to prove most of a ray's signs without a single local function.
+//
+// The errors: N's second derivatives are Lipschitz (each weight is C^2 at
+// its ball's rim), so with M3 bounding every third directional derivative
+// over the box, Taylor's remainder gives |N - T| <= M3 rho^3 / 6 and
+// |d/du (N - T)| <= M3 rho^2 / 2, rho the box's half diagonal. Per local
+// along a unit direction, with s = |x - c_i|^2 / R^2 and sigma = 1 - s in
+// [0, 1] inside the ball, |s'| <= 2 r / R^2, s'' = 2 / R^2:
+//   w' = -3 sigma^2 s',  w'' = 6 sigma s'^2 - 3 sigma^2 s'',
+//   w''' = -6 s'^3 + 18 sigma s' s'',
+//   (w Q)''' = w''' Q + 3 w'' Q' + 3 w' Q''  (Q''' = 0).
+// A sharp local (a max or min of pieces) is one of its pieces where they do
+// not cross. Where its crease crosses the box, T takes the piece in effect
+// at the centre, and the others' differences from it (times the weight, and
+// their slopes') add to the errors: S - Q_p is always some Q_k - Q_p.
+#pragma once
+
+#include <cstdint>
+#include <span>
+
+#include "geometry/bounding_box.h"
+#include "geometry/interval.h"
+#include "geometry/pointsets/mpu_field.h"
+
+namespace isotrace::geometry {
+
+struct MpuNumeratorModel {
+    Vec3 center = Vec3::Zero();
+    double value = 0.0;
+    Vec3 gradient = Vec3::Zero();
+    Mat3 hessian = Mat3::Zero();
+    double valueError = 0.0, slopeError = 0.0;
+
+    /// T at x, and its gradient if asked.
+    double at(const Vec3& x, Vec3* gradientAt = nullptr) const {
+        const Vec3 y = x - center, hy = hessian * y;
+        if (gradientAt) *gradientAt = gradient + hy;
+        return value + gradient.dot(y) + 0.5 * y.dot(hy);
+    }
+};
+
+/// The model of N over `box` from a list of locals that holds every one
+/// whose ball reaches the box (others listed are skipped). The box must lie
+/// in the field's domain, and the field hold no interpolants.
+MpuNumeratorModel fitMpuNumeratorModel(const MpuField& field, const Box3& box, std::span<const uint32_t> locals);
+
+/// The range of value + gradient . y + y^T A y (A symmetric) over
+/// |y_k| <= half_k.
+Interval quadraticRange(double value, const Vec3& gradient, const Mat3& A, const Vec3& half);
+
+}  // namespace isotrace::geometry

@@ -1,0 +1,86 @@
+// The Taylor model of an MPU field's numerator must keep within its proven
+// errors everywhere in its box: value and slope along any direction,
+// against N summed exactly at random points. Boxes of three sizes near the
+// data, on a smooth fit with general quadrics (oni) and across the creases
+// of edge and corner functions (a drilled cube). The largest share of each
+// bound the errors reach is reported: a bound is only useful if it is not
+// wildly loose.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <random>
+
+#include "geometry/pointsets/mpu_numerator_model.h"
+#include "geometry/variational/constraints.h"
+#include "support/drilled_cube.h"
+#include "support/test_data.h"
+
+using namespace isotrace::geometry;
+
+namespace {
+
+struct Reach {
+    double value = 0.0, slope = 0.0;  ///< largest error over its bound
+};
+
+void expectWithinBounds(const MpuField& field, const std::vector<MpuPoint>& points, Reach& reach) {
+    const Box3 domain = field.bounds();
+    const double diagonal = domain.extent().norm();
+    std::mt19937 rng(3);
+    std::normal_distribution<double> n;
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    std::vector<uint32_t> locals;
+    int boxes = 0;
+    for (const double size : {0.002, 0.008, 0.03}) {
+        for (int i = 0; i < 150; ++i) {
+            const Vec3 near = points[rng() % points.size()].position + 0.2 * size * diagonal * Vec3(n(rng), n(rng), n(rng));
+            const Vec3 half = Vec3::Constant(0.5 * size * diagonal).cwiseProduct(Vec3(1.0, 0.7, 1.3));
+            Box3 box;
+            box.extend(near - half);
+            box.extend(near + half);
+            if (!domain.contains(box)) continue;
+            ++boxes;
+            field.localsTouching(box, locals);
+            const MpuNumeratorModel m = fitMpuNumeratorModel(field, box, locals);
+            ASSERT_TRUE(std::isfinite(m.valueError) && std::isfinite(m.slopeError));
+            for (int k = 0; k < 40; ++k) {
+                const Vec3 x = near + Vec3(u(rng), u(rng), u(rng)).cwiseProduct(half);
+                const MpuBlendSums exact = field.blendSums(x, locals);
+                Vec3 modelGradient;
+                const double model = m.at(x, &modelGradient);
+                ASSERT_LE(std::abs(exact.N - model), m.valueError) << "box " << i << " of size " << size;
+                const Vec3 direction = Vec3(n(rng), n(rng), n(rng)).normalized();
+                const double slope = std::abs((exact.gradientN - modelGradient).dot(direction));
+                ASSERT_LE(slope, m.slopeError) << "box " << i << " of size " << size;
+                reach.value = std::max(reach.value, std::abs(exact.N - model) / m.valueError);
+                reach.slope = std::max(reach.slope, slope / m.slopeError);
+            }
+        }
+    }
+    EXPECT_GT(boxes, 300);
+}
+
+}  // namespace
+
+TEST(MpuNumeratorModel, KeepsWithinItsErrorsOnASmoothFit) {
+    std::vector<MpuPoint> points;
+    for (const OrientedPoint& p : readOrientedPoints(isotrace::testing::testDataFile("oni.pwn")))
+        points.push_back({p.position, p.normal});
+    MpuOptions options;
+    options.sharpFeatures = false;
+    Reach reach;
+    expectWithinBounds(MpuField::fit(points, options), points, reach);
+    std::printf("smooth fit: errors reach %.3g of the value bound, %.3g of the slope bound\n", reach.value,
+                reach.slope);
+}
+
+TEST(MpuNumeratorModel, KeepsWithinItsErrorsAcrossCreases) {
+    const std::vector<MpuPoint> points = isotrace::testing::sampleDrilledCube(20000, 5);
+    MpuReport report;
+    const MpuField field = MpuField::fit(points, {}, &report);
+    ASSERT_GT(report.edges + report.corners, 0u);
+    Reach reach;
+    expectWithinBounds(field, points, reach);
+    std::printf("sharp fit: errors reach %.3g of the value bound, %.3g of the slope bound\n", reach.value,
+                reach.slope);
+}
