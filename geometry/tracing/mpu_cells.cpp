@@ -24,7 +24,7 @@ constexpr int kMaxSplits = 2;
 // 0.3 render alike; at 0.05 parts get too small (memory, loading), at 0.5
 // too few spans are proven monotone and the exact search takes them.
 constexpr double kModelTolerance = 0.25;
-constexpr int kMaxModelSplits = 3;
+constexpr int kMaxModelSplits = 4;
 
 Interval largerRange(Interval a, Interval b) { return {std::max(a.lo, b.lo), std::max(a.hi, b.hi)}; }
 Interval smallerRange(Interval a, Interval b) { return {std::min(a.lo, b.lo), std::min(a.hi, b.hi)}; }
@@ -57,6 +57,24 @@ struct MpuPart {
     Vec3 center = Vec3::Zero(), gradient = Vec3::Zero();
     double value = 0.0, band = 0.0;
     int32_t model = -1;  ///< index into the tracer's models, or none
+};
+
+// What a part's model adds to its centre, value and gradient (the model's
+// own, for parts with one): the Hessian's upper triangle (xx xy xz yy yz zz)
+// and the errors. Parts are many (up to a million for a 37k-vertex model):
+// nothing is stored twice.
+struct PartModel {
+    double hessian[6];
+    double valueError, slopeError;
+
+    explicit PartModel(const MpuNumeratorModel& m)
+        : hessian{m.hessian(0, 0), m.hessian(0, 1), m.hessian(0, 2), m.hessian(1, 1), m.hessian(1, 2), m.hessian(2, 2)},
+          valueError(m.valueError), slopeError(m.slopeError) {}
+    Vec3 times(const Vec3& v) const {
+        return {hessian[0] * v.x() + hessian[1] * v.y() + hessian[2] * v.z(),
+                hessian[1] * v.x() + hessian[3] * v.y() + hessian[4] * v.z(),
+                hessian[2] * v.x() + hessian[4] * v.y() + hessian[5] * v.z()};
+    }
 };
 
 // The part over `box` with the locals in `locals`; false when the band
@@ -127,7 +145,7 @@ bool fitBand(const MpuField& field, const Box3& box, std::span<const uint32_t> l
 class MpuCellTracer final : public CellTracer {
 public:
     MpuCellTracer(std::shared_ptr<const MpuField> field, const LeafPlacement& placement, std::vector<MpuPart> parts,
-                  std::vector<uint32_t> locals, std::vector<MpuNumeratorModel> models)
+                  std::vector<uint32_t> locals, std::vector<PartModel> models)
         : field_(std::move(field)), placement_(placement), parts_(std::move(parts)), locals_(std::move(locals)),
           models_(std::move(models)) {}
 
@@ -154,7 +172,7 @@ public:
         const double tolerance = settings.epsilon / direction.norm();
         Vec3 gradient;
         const bool hit = part.model >= 0
-                             ? modelledRoot(models_[part.model], locals, o, d, t0, t1, tolerance, r, gradient)
+                             ? modelledRoot(part, models_[part.model], locals, o, d, t0, t1, tolerance, r, gradient)
                              : exactRoot(locals, o, d, t0, t1, tolerance, r, gradient);
         if (!hit) return r;
         r.hit = true;
@@ -179,13 +197,13 @@ private:
 
     // The same through the part's model of N: spans where |T| exceeds its
     // error have T's sign; each span between is searched, in order.
-    bool modelledRoot(const MpuNumeratorModel& m, std::span<const uint32_t> locals, const Vec3& o,
+    bool modelledRoot(const MpuPart& part, const PartModel& m, std::span<const uint32_t> locals, const Vec3& o,
                       const Vec3& d, double t0, double t1, double tolerance, CellTraceResult& r,
                       Vec3& gradient) const {
         // T along the ray: c0 + c1 t + c2 t^2.
-        const Vec3 y0 = o - m.center, hd = m.hessian * d;
-        const double c0 = m.value + m.gradient.dot(y0) + 0.5 * y0.dot(m.hessian * y0);
-        const double c1 = m.gradient.dot(d) + y0.dot(hd), c2 = 0.5 * d.dot(hd);
+        const Vec3 y0 = o - part.center, hd = m.times(d);
+        const double c0 = part.value + part.gradient.dot(y0) + 0.5 * y0.dot(m.times(y0));
+        const double c1 = part.gradient.dot(d) + y0.dot(hd), c2 = 0.5 * d.dot(hd);
         const double e = m.valueError, slopeError = m.slopeError * d.norm();
         auto model = [&](double t) { return c0 + t * (c1 + t * c2); };
         auto modelSlope = [&](double t) { return c1 + 2.0 * c2 * t; };
@@ -288,7 +306,7 @@ private:
     LeafPlacement placement_;
     std::vector<MpuPart> parts_;
     std::vector<uint32_t> locals_;
-    std::vector<MpuNumeratorModel> models_;
+    std::vector<PartModel> models_;
 };
 
 }  // namespace
@@ -308,7 +326,7 @@ std::optional<CellAcceleration> MpuCellAccelerator::accelerate(const FieldProgra
 
     std::vector<MpuPart> parts;
     std::vector<uint32_t> locals, touching;
-    std::vector<MpuNumeratorModel> models;
+    std::vector<PartModel> models;
     // A part over `b` whose locals are locals[first, first + count) (its
     // ancestor's list, shared by the parts carved from it): modelled where
     // its model is accurate enough, split while it is not, else left to the
@@ -339,7 +357,7 @@ std::optional<CellAcceleration> MpuCellAccelerator::accelerate(const FieldProgra
             part.gradient = model.gradient;
             part.band = band;
             part.model = int32_t(models.size());
-            models.push_back(model);
+            models.emplace_back(model);
         } else if (splits < kMaxModelSplits) {
             for (int k = 0; k < 8; ++k) self(self, b.octant(k), splits + 1, first, count, &model, b.center());
             return;
