@@ -53,6 +53,35 @@ PieceInEffect pieceInEffect(const MpuField& field, const MpuLocal& l, const Vec3
     return {central, false};
 }
 
+// The largest |d^2/dtau^2 w(x + tau u)| over unit u and distances r from
+// the ball's centre in `distance`. With v = r^2 / R^2 and sigma = 1 - v,
+// w'' = 6 sigma s'^2 - 3 sigma^2 s'' where 0 <= s'^2 <= 4 v / R^2 and
+// s'' = 2 / R^2, so w'' lies in [-6 sigma^2, 6 sigma (5 v - 1)] / R^2: the
+// first magnitude falls with v, the second peaks at v = 0.6 (4.8 / R^2).
+// Summing the two terms' largest magnitudes instead would give 30 / R^2.
+double weightCurvatureBound(const Interval& distance, double R) {
+    const double R2 = R * R;
+    const double lo = std::min(distance.lo * distance.lo / R2, 1.0), hi = std::min(distance.hi * distance.hi / R2, 1.0);
+    auto rising = [](double v) { return 6.0 * (1.0 - v) * (5.0 * v - 1.0); };
+    const double peak = hi <= 0.6 ? rising(hi) : lo >= 0.6 ? rising(lo) : 4.8;
+    return std::max(6.0 * (1.0 - lo) * (1.0 - lo), peak) / R2 * (1 + 1e-12);
+}
+
+// The same for |w'''|: w''' = s' (36 sigma / R^2 - 6 s'^2) with
+// 0 <= |s'| <= P = 2 x / R, x = r / R. Over s' in [0, P] its magnitude is
+// largest at s' = sqrt(2 sigma) / R (24 sqrt 2 sigma^1.5 / R^3, falling with
+// x) or at s' = P (|72 x - 120 x^3| / R^3, extreme at x^2 = 0.2 and at the
+// interval's ends).
+double weightThirdBound(const Interval& distance, double R) {
+    const double lo = std::min(distance.lo / R, 1.0), hi = std::min(distance.hi / R, 1.0);
+    const double sigma = 1.0 - lo * lo;
+    auto atEnd = [](double x) { return std::abs(72.0 * x - 120.0 * x * x * x); };
+    double bound = std::max({24.0 * std::sqrt(2.0) * sigma * std::sqrt(sigma), atEnd(lo), atEnd(hi)});
+    const double critical = std::sqrt(0.2);
+    if (lo < critical && critical < hi) bound = std::max(bound, atEnd(critical));
+    return bound / (R * R * R) * (1 + 1e-12);
+}
+
 }  // namespace
 
 Interval quadraticRange(double value, const Vec3& gradient, const Mat3& A, const Vec3& half) {
@@ -103,9 +132,8 @@ MpuNumeratorModel fitMpuNumeratorModel(const MpuField& field, const Box3& box, s
         }
         // Bounds of w's first three directional derivatives over the box.
         const double sigmaMax = 1.0 - distance.lo * distance.lo / R2;
-        const double a = 2.0 * std::min(distance.hi, R) / R2, b = 2.0 / R2;
-        const double w1 = 3.0 * sigmaMax * sigmaMax * a, w2 = 6.0 * sigmaMax * a * a + 3.0 * sigmaMax * sigmaMax * b,
-                     w3 = 6.0 * a * a * a + 18.0 * sigmaMax * a * b;
+        const double w1 = mpuWeightSlope(distance, R), w2 = weightCurvatureBound(distance, R),
+                     w3 = weightThirdBound(distance, R);
         const double hqNorm = 2.0 * field.pieceCurvature(l.first + piece.index);  // at least |u^T Hq u|
         const double q0 = quadraticRange(qc, gq, q.A, half).magnitude(), q1 = gq.norm() + hqNorm * rho;
         third += w3 * q0 + 3.0 * w2 * q1 + 3.0 * w1 * hqNorm;
