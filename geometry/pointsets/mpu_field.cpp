@@ -670,6 +670,18 @@ double MpuField::valueAndGradient(const Vec3& p, Vec3& gradient, std::span<const
     });
 }
 
+double MpuField::numerator(const Vec3& p, std::span<const uint32_t> locals) const {
+    double N = kBackgroundWeight * background(p, nullptr);
+    for (const uint32_t i : locals) {
+        const Local& l = locals_[i];
+        const double r2 = (p - l.center).squaredNorm(), R2 = l.radius * l.radius;
+        if (r2 >= R2) continue;
+        const double sigma = 1.0 - r2 / R2;
+        N += sigma * sigma * sigma * evaluate(l, p, nullptr);
+    }
+    return N;
+}
+
 MpuBlendSums MpuField::blendSums(const Vec3& p, std::span<const uint32_t> locals) const {
     return sums(p, [&](auto&& visit) {
         for (const uint32_t i : locals) visit(locals_[i]);

@@ -145,6 +145,8 @@ public:
     /// N and W and their gradients from such a list (tracers that root-find
     /// on N, which has f's zeros and is smooth where f's quotient is not).
     MpuBlendSums blendSums(const Vec3& p, std::span<const uint32_t> locals) const;
+    /// N alone (its sign is f's).
+    double numerator(const Vec3& p, std::span<const uint32_t> locals) const;
     /// Indices of the locals whose ball reaches the box.
     void localsTouching(const Box3& box, std::vector<uint32_t>& out) const;
     /// The value, and a radius around p proven free of zeros: from the

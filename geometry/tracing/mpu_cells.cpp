@@ -250,7 +250,7 @@ private:
             // where the signs at its ends differ.
             int left = k > 0 ? spans[k - 1].sign : 0, right = k + 1 < count ? spans[k + 1].sign : 0;
             auto signAt = [&](double t) {
-                const double n = field_->blendSums(o + t * d, locals).N;
+                const double n = field_->numerator(o + t * d, locals);
                 r.evaluations += locals.size();
                 ++r.steps;
                 return n > 0 ? 1 : n < 0 ? -1 : 0;
