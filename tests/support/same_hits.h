@@ -24,21 +24,35 @@ geometry::ImplicitSurfaceOptions onlyAccelerator() {
     return options;
 }
 
+/// A surface traced with the accelerators of `fastOptions` and the same
+/// surface marched by the general tracer alone, each in its Embree scene.
+struct FastAndExact {
+    static geometry::ImplicitSurfaceOptions marchingOnly() {
+        geometry::ImplicitSurfaceOptions options;
+        options.cellAccelerators.clear();
+        return options;
+    }
+    FastAndExact(const geometry::FieldProgram& program, const geometry::ImplicitSurfaceOptions& fastOptions)
+        : fast(program, fastOptions), exact(program, marchingOnly()) {
+        fastScene.attach(fast);
+        exactScene.attach(exact);
+        fastScene.commit();
+        exactScene.commit();
+    }
+    geometry::ImplicitSurface fast, exact;
+    EmbreeScene fastScene, exactScene;
+};
+
 /// `fastOptions` chooses the accelerators under test (all by default).
 inline void expectSameHitsAsMarching(const geometry::FieldProgram& program, int rays, int minimumHits,
                                      int minimumSecondaryHits, double minimumNormalCosine = 0.999,
                                      const geometry::ImplicitSurfaceOptions& fastOptions = {}) {
     using geometry::Vec3;
-    geometry::ImplicitSurfaceOptions exactOptions;
-    exactOptions.cellAccelerators.clear();
-    geometry::ImplicitSurface fast(program, fastOptions), exact(program, exactOptions);
+    FastAndExact scenes(program, fastOptions);
+    const geometry::ImplicitSurface &fast = scenes.fast, &exact = scenes.exact;
+    const EmbreeScene &fastScene = scenes.fastScene, &exactScene = scenes.exactScene;
     ASSERT_GT(fast.acceleratedCellCount(), 0u);
     ASSERT_EQ(exact.acceleratedCellCount(), 0u);
-    EmbreeScene fastScene, exactScene;
-    fastScene.attach(fast);
-    exactScene.attach(exact);
-    fastScene.commit();
-    exactScene.commit();
     const double size = fast.bounds().extent().norm();
     std::mt19937 rng(11);
     std::normal_distribution<double> n;
@@ -92,15 +106,10 @@ inline double evaluationsPerRay(const geometry::ImplicitSurface& surface, int ra
 inline void expectSameHitsOnGrazingRays(const geometry::FieldProgram& program, int rays, int minimumHits,
                                         const geometry::ImplicitSurfaceOptions& fastOptions = {}) {
     using geometry::Vec3;
-    geometry::ImplicitSurfaceOptions exactOptions;
-    exactOptions.cellAccelerators.clear();
-    geometry::ImplicitSurface fast(program, fastOptions), exact(program, exactOptions);
+    FastAndExact scenes(program, fastOptions);
+    const geometry::ImplicitSurface &fast = scenes.fast, &exact = scenes.exact;
+    const EmbreeScene &fastScene = scenes.fastScene, &exactScene = scenes.exactScene;
     ASSERT_GT(fast.acceleratedCellCount(), 0u);
-    EmbreeScene fastScene, exactScene;
-    fastScene.attach(fast);
-    exactScene.attach(exact);
-    fastScene.commit();
-    exactScene.commit();
     const double size = fast.bounds().extent().norm();
     std::mt19937 rng(17);
     std::normal_distribution<double> n;
