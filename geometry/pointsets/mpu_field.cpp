@@ -3,6 +3,7 @@
 #include <Eigen/Dense>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -519,6 +520,8 @@ int MpuField::gridIndex(double coordinate, int axis) const {
 }
 
 void MpuField::finish() {
+    static std::atomic<uint64_t> nextId{1};
+    id_ = nextId++;
     // Which locals reach each cell of a grid over the domain: exactly (for
     // evaluation and box queries) and within a margin of it (for the small
     // boxes of safe distances, answered from one cell's list).

@@ -175,6 +175,9 @@ public:
     /// Some local is an interpolant (tracers built for quadrics decline).
     bool hasInterpolants() const { return !interpolants_.empty(); }
     double support() const { return support_; }
+    /// Never the same for two fields built (copies share it, and their
+    /// values): a key for caches of values that outlive a field.
+    uint64_t id() const { return id_; }
     double backgroundMargin() const { return backgroundMargin_; }
 
 private:
@@ -216,6 +219,7 @@ private:
     double minimumWeight_ = 0.0;
     double backgroundMargin_ = 0.0;
     size_t typicalTerms_ = 1;
+    uint64_t id_ = 0;
 };
 
 /// MPU's weight (1 - r^2 / R^2)^3 at squared distance r2 from the centre of

@@ -250,10 +250,13 @@ private:
             // where the signs at its ends differ.
             int left = k > 0 ? spans[k - 1].sign : 0, right = k + 1 < count ? spans[k + 1].sign : 0;
             auto signAt = [&](double t) {
-                const double n = field_->numerator(o + t * d, locals);
+                const Vec3 x = o + t * d;
+                if (lastSign_.field == field_->id() && lastSign_.point == x) return lastSign_.sign;
+                const double n = field_->numerator(x, locals);
                 r.evaluations += locals.size();
                 ++r.steps;
-                return n > 0 ? 1 : n < 0 ? -1 : 0;
+                lastSign_ = {field_->id(), x, n > 0 ? 1 : n < 0 ? -1 : 0};
+                return lastSign_.sign;
             };
             if (left == 0 && (left = signAt(s.a)) == 0) {
                 r.t = s.a;
@@ -303,12 +306,25 @@ private:
         return true;
     }
 
+    // The last sign evaluated on this thread: a ray that leaves one part
+    // inside the band around the surface enters the next at the same point
+    // (the parts share the face), and its sign there is already known. Any
+    // list of locals reaching the point gives N there.
+    struct LastSign {
+        uint64_t field = 0;  ///< its id (ids are never reused, addresses may be)
+        Vec3 point = Vec3::Constant(std::numeric_limits<double>::quiet_NaN());
+        int sign = 0;
+    };
+    static thread_local LastSign lastSign_;
+
     std::shared_ptr<const MpuField> field_;
     LeafPlacement placement_;
     std::vector<MpuPart> parts_;
     std::vector<uint32_t> locals_;
     std::vector<PartModel> models_;
 };
+
+thread_local MpuCellTracer::LastSign MpuCellTracer::lastSign_;
 
 }  // namespace
 
