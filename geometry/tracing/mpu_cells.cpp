@@ -349,14 +349,14 @@ std::optional<CellAcceleration> MpuCellAccelerator::accelerate(const FieldProgra
     // its model is accurate enough, split while it is not, else left to the
     // exact polynomial search.
     auto keep = [&](auto&& self, const Box3& b, int splits, uint32_t first, uint32_t count,
-                    const MpuNumeratorModel* parent, const Vec3& parentCenter) -> void {
+                    const MpuNumeratorModel* parent) -> void {
         const Vec3 half = 0.5 * b.extent();
         if (parent) {
             // The parent's model holds over this box too: it may prove it
             // free of surface before a model of its own is fitted.
-            const Vec3 y = b.center() - parentCenter, hy = parent->hessian * y;
-            const Interval t = quadraticRange(parent->value + parent->gradient.dot(y) + 0.5 * y.dot(hy),
-                                              parent->gradient + hy, 0.5 * parent->hessian, half);
+            Vec3 slope;
+            const double value = parent->at(b.center(), &slope);
+            const Interval t = quadraticRange(value, slope, 0.5 * parent->hessian, half);
             if (t.lo > parent->valueError || t.hi < -parent->valueError) return;
         }
         const std::span<const uint32_t> list(locals.data() + first, count);
@@ -376,7 +376,7 @@ std::optional<CellAcceleration> MpuCellAccelerator::accelerate(const FieldProgra
             part.model = int32_t(models.size());
             models.emplace_back(model);
         } else if (splits < kMaxModelSplits) {
-            for (int k = 0; k < 8; ++k) self(self, b.octant(k), splits + 1, first, count, &model, b.center());
+            for (int k = 0; k < 8; ++k) self(self, b.octant(k), splits + 1, first, count, &model);
             return;
         }
         if (part.model < 0 && !fitBand(field, b, list, part)) return;
@@ -395,7 +395,7 @@ std::optional<CellAcceleration> MpuCellAccelerator::accelerate(const FieldProgra
         const uint32_t first = uint32_t(locals.size()), count = uint32_t(touching.size());
         const size_t kept = parts.size();
         locals.insert(locals.end(), touching.begin(), touching.end());
-        keep(keep, b, splits, first, count, nullptr, b.center());
+        keep(keep, b, splits, first, count, nullptr);
         if (parts.size() == kept) locals.resize(first);  // no part holds surface
     };
     carve(carve, leafBox, 0);
