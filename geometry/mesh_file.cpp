@@ -1,7 +1,5 @@
 #include "geometry/mesh_file.h"
 
-#include <assimp/Importer.hpp>
-#include <assimp/scene.h>
 #include <array>
 #include <cctype>
 #include <cmath>
@@ -10,6 +8,7 @@
 #include <sstream>
 #include <unordered_map>
 
+#include "geometry/assimp_library.h"
 #include "geometry/bounding_box.h"
 #include "geometry/input_error.h"
 
@@ -125,32 +124,30 @@ IndexedMesh readMeshFile(const std::string& path) {
     const uintmax_t bytes = std::filesystem::file_size(path, ec);
     if (extension == ".off") checkOffFile(path, bytes);
     if (extension == ".ply") checkPlyHeader(path, bytes);
-    Assimp::Importer importer;
-    // No post-processing: Assimp's steps assert (abort) on some corrupt
-    // files, and degenerate triangles are for the caller to report, not hide.
-    const aiScene* scene = importer.ReadFile(path, 0);
-    if (!scene || (scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE) || !scene->mRootNode)
-        throw InputError(path, "", std::string("cannot read mesh: ") + importer.GetErrorString());
+    AssimpLibrary& assimp = assimpLibrary();  // a module that cannot load is not the file's fault
+    MeshFileContents contents;
+    try {
+        contents = assimp.read(path);
+    } catch (const std::runtime_error& e) {
+        throw InputError(path, "", std::string("cannot read mesh: ") + e.what());
+    }
     IndexedMesh mesh;
-    for (unsigned m = 0; m < scene->mNumMeshes; ++m) {
-        const aiMesh* am = scene->mMeshes[m];
-        const uint32_t base = static_cast<uint32_t>(mesh.vertices.size());
-        for (unsigned v = 0; v < am->mNumVertices; ++v) {
-            const aiVector3D& p = am->mVertices[v];
-            if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
+    for (const MeshFileContents::Part& part : contents.parts) {
+        const uint32_t base = static_cast<uint32_t>(mesh.vertices.size()), count = uint32_t(part.vertices.size());
+        for (uint32_t v = 0; v < count; ++v) {
+            const Vec3& p = part.vertices[v];
+            if (!p.allFinite())
                 throw InputError(path, "vertex " + std::to_string(v), "vertex coordinate is not a finite number");
-            mesh.vertices.emplace_back(p.x, p.y, p.z);
+            mesh.vertices.push_back(p);
         }
-        for (unsigned f = 0; f < am->mNumFaces; ++f) {
-            const aiFace& face = am->mFaces[f];
-            for (unsigned k = 0; k < face.mNumIndices; ++k)
-                if (face.mIndices[k] >= am->mNumVertices)
+        const uint32_t* face = part.indices.data();
+        for (size_t f = 0; f < part.faceSizes.size(); face += part.faceSizes[f], ++f) {
+            const uint32_t size = part.faceSizes[f];
+            for (uint32_t k = 0; k < size; ++k)
+                if (face[k] >= count)
                     throw InputError(path, "face " + std::to_string(f),
-                                     "refers to vertex " + std::to_string(face.mIndices[k]) + " of " +
-                                         std::to_string(am->mNumVertices));
-            for (unsigned k = 2; k < face.mNumIndices; ++k)
-                mesh.triangles.push_back(
-                    {base + face.mIndices[0], base + face.mIndices[k - 1], base + face.mIndices[k]});
+                                     "refers to vertex " + std::to_string(face[k]) + " of " + std::to_string(count));
+            for (uint32_t k = 2; k < size; ++k) mesh.triangles.push_back({base + face[0], base + face[k - 1], base + face[k]});
         }
     }
     if (mesh.triangles.empty()) throw InputError(path, "", "mesh has no triangles");

@@ -1,7 +1,5 @@
 #include "renderer/mesh_export.h"
 
-#include <assimp/Exporter.hpp>
-#include <assimp/scene.h>
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
@@ -9,6 +7,7 @@
 #include <stdexcept>
 #include <unistd.h>
 
+#include "geometry/assimp_library.h"
 #include "geometry/mesh_file.h"
 
 namespace isotrace {
@@ -24,38 +23,14 @@ void writeOff(const std::string& path, const geometry::IndexedMesh& mesh) {
     if (!out.flush()) throw std::runtime_error(path + ": cannot write the mesh");
 }
 
-void writeWithAssimp(const std::string& path, const geometry::IndexedMesh& mesh, const char* formatId) {
-    // A one-mesh scene; Assimp owns and frees what is attached to it.
-    aiScene scene;
-    scene.mRootNode = new aiNode();
-    scene.mMaterials = new aiMaterial*[1]{new aiMaterial()};
-    scene.mNumMaterials = 1;
-    scene.mMeshes = new aiMesh*[1]{new aiMesh()};
-    scene.mNumMeshes = 1;
-    scene.mRootNode->mMeshes = new unsigned[1]{0};
-    scene.mRootNode->mNumMeshes = 1;
-    aiMesh* m = scene.mMeshes[0];
-    m->mPrimitiveTypes = aiPrimitiveType_TRIANGLE;
-    m->mNumVertices = static_cast<unsigned>(mesh.vertices.size());
-    m->mVertices = new aiVector3D[m->mNumVertices];
-    if (!mesh.normals.empty()) m->mNormals = new aiVector3D[m->mNumVertices];
-    for (unsigned i = 0; i < m->mNumVertices; ++i) {
-        const auto& v = mesh.vertices[i];
-        m->mVertices[i] = aiVector3D(float(v.x()), float(v.y()), float(v.z()));
-        if (m->mNormals) {
-            const auto& n = mesh.normals[i];
-            m->mNormals[i] = aiVector3D(float(n.x()), float(n.y()), float(n.z()));
-        }
+// Assimp's own message after the path, as the other write errors read.
+void writeMeshWithAssimp(const std::string& path, const geometry::IndexedMesh& mesh, const char* formatId) {
+    geometry::AssimpLibrary& assimp = geometry::assimpLibrary();
+    try {
+        assimp.write(path, mesh, formatId);
+    } catch (const std::runtime_error& e) {
+        throw std::runtime_error(path + ": cannot write the mesh: " + e.what());
     }
-    m->mNumFaces = static_cast<unsigned>(mesh.triangles.size());
-    m->mFaces = new aiFace[m->mNumFaces];
-    for (unsigned f = 0; f < m->mNumFaces; ++f) {
-        m->mFaces[f].mNumIndices = 3;
-        m->mFaces[f].mIndices = new unsigned[3]{mesh.triangles[f][0], mesh.triangles[f][1], mesh.triangles[f][2]};
-    }
-    Assimp::Exporter exporter;
-    if (exporter.Export(&scene, formatId, path) != AI_SUCCESS)
-        throw std::runtime_error(path + ": cannot write the mesh: " + exporter.GetErrorString());
 }
 
 }  // namespace
@@ -73,7 +48,7 @@ void writeMesh(const std::string& path, const geometry::IndexedMesh& mesh) {
         (p.parent_path() / ("." + p.stem().string() + ".partial-" + std::to_string(getpid()) + e)).string();
     try {
         if (e == ".off") writeOff(temporary, mesh);
-        else writeWithAssimp(temporary, mesh, e == ".ply" ? "plyb" : "objnomtl");
+        else writeMeshWithAssimp(temporary, mesh, e == ".ply" ? "plyb" : "objnomtl");
         std::filesystem::rename(temporary, path);
     } catch (...) {
         std::error_code ignored;

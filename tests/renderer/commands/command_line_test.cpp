@@ -677,3 +677,41 @@ TEST(CommandLine, RendersMergesAndComparesWithoutOpenImageIo) {
     EXPECT_NE(needsIt.output.find("cannot load the OpenImageIO module"), std::string::npos) << needsIt.output;
     EXPECT_NE(needsIt.output.find("absent.so"), std::string::npos) << needsIt.output;
 }
+
+// Assimp (with Draco) added some 350 page faults to every process start; it
+// is loaded only when a polygon model file is read or a PLY or OBJ written.
+// With its module made unloadable, scenes without meshes still render and
+// OFF still writes; a mesh in a scene or a PLY to write fails clearly, with
+// exit 2 and no output file.
+TEST(CommandLine, RendersWithoutAssimpUntilAMeshFileIsNeeded) {
+    TemporaryFolder folder;
+    const std::string scene = folder.write("scene.json", kSmallScene);
+    const std::string without = "ISOTRACE_ASSIMP_MODULE=" + folder.file("absent.so") + " " ISOTRACE_EXECUTABLE " ";
+    auto run = [&](const std::string& arguments) { return isotrace::testing::runShell(without + arguments); };
+    const auto render = run("render " + scene + " -q -o " + folder.file("ball.exr"));
+    ASSERT_EQ(render.exitCode, 0) << render.output;
+    EXPECT_TRUE(std::filesystem::exists(folder.file("ball.exr")));
+    const auto off = run("polygonize " + scene + " --field ball --resolution 16 -o " + folder.file("ball.off"));
+    ASSERT_EQ(off.exitCode, 0) << off.output;
+
+    // The mesh written above, read back as an object of a scene.
+    const std::string withMesh = folder.write(
+        "with_mesh.json", R"({"camera": {"from": [0, 0, 4], "to": [0, 0, 0]}, "film": {"width": 8, "height": 6, "spp": 1},
+          "materials": {"clay": {"type": "diffuse"}},
+          "objects": [{"mesh": ")" + folder.file("ball.off") + R"(", "material": "clay"}],
+          "lights": [{"type": "environment", "radiance": [1, 1, 1]}]})");
+    for (const std::string& arguments : {"render " + withMesh + " -q -o " + folder.file("mesh.exr"),
+                                         "polygonize " + scene + " --field ball --resolution 16 -o " + folder.file("ball.ply")}) {
+        const auto needsIt = run(arguments);
+        EXPECT_EQ(needsIt.exitCode, 2) << arguments << "\n" << needsIt.output;
+        EXPECT_NE(needsIt.output.find("cannot load the Assimp module"), std::string::npos) << needsIt.output;
+        EXPECT_NE(needsIt.output.find("absent.so"), std::string::npos) << needsIt.output;
+    }
+    EXPECT_FALSE(std::filesystem::exists(folder.file("mesh.exr")));
+    EXPECT_FALSE(std::filesystem::exists(folder.file("mesh.png")));
+    EXPECT_FALSE(std::filesystem::exists(folder.file("ball.ply")));
+
+    // With the module where the executable finds it, the same mesh renders.
+    const auto found = runIsotrace("render " + withMesh + " -q -o " + folder.file("mesh.exr"));
+    EXPECT_EQ(found.exitCode, 0) << found.output;
+}

@@ -1,0 +1,14 @@
+#include "geometry/assimp_library.h"
+
+#include "geometry/loadable_module.h"
+
+namespace isotrace::geometry {
+
+AssimpLibrary& assimpLibrary() {
+    using Entry = AssimpLibrary* (*)();
+    static const ModuleDescription module{"Assimp", "isotrace_assimp.so", "isotraceAssimpLibrary",
+                                          "ISOTRACE_ASSIMP_MODULE", "polygon model files: .obj, .off and .ply"};
+    return *reinterpret_cast<Entry>(loadModuleEntryPoint(module))();
+}
+
+}  // namespace isotrace::geometry
