@@ -326,7 +326,15 @@ FieldProgram FieldProgram::prunedTo(const Box3& box) const {
             live[forward[in.b]] = true;
     }
 
+    // Sized once: a small scene prunes a program for every cell, and grown
+    // vectors left their discarded blocks as fresh pages to fault in.
     FieldProgram out;
+    size_t liveSlots = 0, liveLeaves = 0;
+    for (uint32_t i = 0; i < n; ++i)
+        if (live[i] && forward[i] == i) ++liveSlots, liveLeaves += code_[i].op == FieldOp::Leaf;
+    out.code_.reserve(liveSlots);
+    out.slotBounds_.reserve(liveSlots);
+    out.leaves_.reserve(liveLeaves);
     std::vector<uint32_t> remap(n, 0);
     for (uint32_t i = 0; i < n; ++i) {
         if (!live[i] || forward[i] != i) continue;

@@ -116,19 +116,20 @@ Interval Polynomial::evaluate(const Box3& box) const {
     return sum;
 }
 
-PolynomialField::PolynomialField(Polynomial p, const Box3& d)
-    : polynomial(std::move(p)),
-      partials{polynomial.derivative(0), polynomial.derivative(1), polynomial.derivative(2)},
-      domain(d) {}
+PolynomialField::PolynomialField(Polynomial p, const Box3& d) : domain(d) {
+    std::array<Polynomial, 3> partials{p.derivative(0), p.derivative(1), p.derivative(2)};
+    terms_ = std::make_shared<const Terms>(Terms{std::move(p), std::move(partials)});
+}
 
 double PolynomialField::valueAndGradient(const Vec3& p, Vec3& gradient) const {
+    const std::array<Polynomial, 3>& partials = terms_->partials;
     gradient = Vec3(partials[0].evaluate(p), partials[1].evaluate(p), partials[2].evaluate(p));
-    return polynomial.evaluate(p);
+    return terms_->polynomial.evaluate(p);
 }
 
 double PolynomialField::lipschitz(const Box3& box) const {
     double sum2 = 0.0;
-    for (const Polynomial& d : partials) {
+    for (const Polynomial& d : terms_->partials) {
         const double m = d.evaluate(box).magnitude();
         sum2 += m * m;
     }

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <array>
+#include <memory>
 #include <vector>
 
 #include "geometry/fields/distance_field_bounds.h"
@@ -53,18 +54,26 @@ private:
 };
 
 struct PolynomialField {
-    Polynomial polynomial;
-    std::array<Polynomial, 3> partials;
-    Box3 domain;  ///< the surface is sought inside this box only
-
-    PolynomialField() = default;
     PolynomialField(Polynomial p, const Box3& domain);
 
-    double value(const Vec3& p) const { return polynomial.evaluate(p); }
+    const Polynomial& polynomial() const { return terms_->polynomial; }
+    double value(const Vec3& p) const { return terms_->polynomial.evaluate(p); }
     double valueAndGradient(const Vec3& p, Vec3& gradient) const;
-    Interval range(const Box3& box) const { return polynomial.evaluate(box); }
+    Interval range(const Box3& box) const { return terms_->polynomial.evaluate(box); }
     double lipschitz(const Box3& box) const;
     Box3 bounds() const { return domain; }
+
+    Box3 domain;  ///< the surface is sought inside this box only
+
+private:
+    // Shared, not inline: every cell's pruned program copies its leaves,
+    // and four polynomials inline made each leaf of any kind 832 bytes
+    // (most of a small CSG scene's start-up was those copies' page faults).
+    struct Terms {
+        Polynomial polynomial;
+        std::array<Polynomial, 3> partials;
+    };
+    std::shared_ptr<const Terms> terms_;
 };
 
 }  // namespace isotrace::geometry

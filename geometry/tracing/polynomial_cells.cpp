@@ -104,7 +104,7 @@ struct PolynomialSurface {
     Vec3 centre;   ///< of the domain, where rays' polynomials are expanded
 
     PolynomialSurface(const PolynomialField& f, const LeafPlacement& p, uint64_t k)
-        : field(f), split(f.polynomial), placement(p), key(k), centre(f.domain.center()) {}
+        : field(f), split(f.polynomial()), placement(p), key(k), centre(f.domain.center()) {}
 };
 
 template <int Degree>
@@ -152,7 +152,7 @@ private:
 uint64_t surfaceKey(const PolynomialField& field, const LeafPlacement& placement) {
     auto bytes = [](const auto& value) { return std::string_view(reinterpret_cast<const char*>(&value), sizeof value); };
     uint64_t h = kFnvOffsetBasis;
-    for (const PolynomialTerm& t : field.polynomial.terms()) h = fnv1a64(bytes(t.powers), fnv1a64(bytes(t.coefficient), h));
+    for (const PolynomialTerm& t : field.polynomial().terms()) h = fnv1a64(bytes(t.powers), fnv1a64(bytes(t.coefficient), h));
     h = fnv1a64(bytes(field.domain.lower), fnv1a64(bytes(field.domain.upper), h));
     h = fnv1a64(bytes(placement.linear), fnv1a64(bytes(placement.offset), fnv1a64(bytes(placement.valueScale), h)));
     return h | 1;  // never 0, the empty cache's key
@@ -178,7 +178,7 @@ std::optional<CellAcceleration> PolynomialCellAccelerator::accelerate(const Fiel
                                                                       double) const {
     const ShapeCell<PolynomialField> cell(program, box);
     if (!cell.shape) return std::nullopt;
-    const int degree = cell.shape->polynomial.degree();
+    const int degree = cell.shape->polynomial().degree();
     if (degree < 1 || degree > kMaxDegree) return std::nullopt;
     // One part per cell, the cell shrunk to the surface: splitting it
     // further made rays cross more parts, each a call from Embree.

@@ -1,0 +1,34 @@
+#include "renderer/memory_pages.h"
+
+#include <sys/mman.h>
+#include <unistd.h>
+
+#include <cstdint>
+
+namespace isotrace {
+
+namespace {
+
+// Linux 5.14 and later; older kernels refuse it and the pages fault in as usual.
+#ifndef MADV_POPULATE_WRITE
+constexpr int MADV_POPULATE_WRITE = 23;
+#endif
+
+// Small buffers are not worth a system call.
+constexpr size_t kMinimumBytes = size_t(1) << 20;
+
+}  // namespace
+
+void populatePages(void* data, size_t bytes) {
+    if (data == nullptr || bytes < kMinimumBytes) return;
+    const uintptr_t page = uintptr_t(sysconf(_SC_PAGESIZE));
+    // Whole pages inside the buffer only: advice applies to whole pages, and
+    // the allocator's neighbours in a partial page must not be disturbed.
+    const uintptr_t first = (uintptr_t(data) + page - 1) & ~(page - 1);
+    const uintptr_t last = (uintptr_t(data) + bytes) & ~(page - 1);
+    if (last <= first) return;
+    madvise(reinterpret_cast<void*>(first), last - first, MADV_HUGEPAGE);
+    madvise(reinterpret_cast<void*>(first), last - first, MADV_POPULATE_WRITE);
+}
+
+}  // namespace isotrace
