@@ -19,6 +19,11 @@ namespace {
 
 constexpr double kSqrt3 = 1.7320508075688772;
 
+// Cells searched for surface the polygonization missed are split at least
+// this deep (8^3 over the bounds) even where the field is a distance bound:
+// an island is found by a lattice of points inside its cell.
+constexpr int kIslandCellDepth = 3;
+
 // Neighbour queries over points: cells of side h, points sorted by cell.
 class PointGrid {
 public:
@@ -149,6 +154,7 @@ SurfaceComponents findComponents(const FieldProgram& field, const IndexedMesh& m
     // polygonization stepped over.
     ImplicitSurfaceOptions options;
     options.cellAccelerators.clear();
+    options.distanceCellDepth = kIslandCellDepth;
     const ImplicitSurface surface(field, options);
     if (surface.cells().empty()) return out;
     // Cells differ in size; the grid's cells are as large as the largest,

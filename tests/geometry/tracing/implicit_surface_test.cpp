@@ -10,7 +10,11 @@ using namespace isotrace::geometry;
 using isotrace::testing::compileField;
 
 TEST(ImplicitSurface, KeepsOnlyCellsThatMayHoldSurface) {
-    ImplicitSurface surface(compileField(R"({"type": "torus", "major": 1, "minor": 0.3})"));
+    // Split as deep as the octree goes (by default a distance field's cells
+    // stop at depth 1: see ImplicitSurfaceOptions::distanceCellDepth).
+    ImplicitSurfaceOptions deep;
+    deep.distanceCellDepth = deep.maxDepth;
+    ImplicitSurface surface(compileField(R"({"type": "torus", "major": 1, "minor": 0.3})"), deep);
     ASSERT_FALSE(surface.cells().empty());
     for (const SurfaceCell& cell : surface.cells()) {
         EXPECT_TRUE(surface.field().estimate(cell.box).range.containsZero());
@@ -20,6 +24,29 @@ TEST(ImplicitSurface, KeepsOnlyCellsThatMayHoldSurface) {
     double cellVolume = 0;
     for (const SurfaceCell& cell : surface.cells()) cellVolume += cell.box.extent().prod();
     EXPECT_LT(cellVolume, 0.5 * surface.bounds().extent().prod());
+}
+
+// A distance field's cells stop splitting at distanceCellDepth (two
+// primitives combined one level deeper); other fields refine on.
+TEST(ImplicitSurface, DistanceCellsStopAtTheirDepth) {
+    const FieldProgram sphere = compileField(R"({"type": "sphere", "radius": 1})");
+    const FieldProgram difference = compileField(R"({"type": "difference", "of": [
+        {"type": "sphere", "radius": 1}, {"type": "sphere", "radius": 0.6, "center": [0.8, 0, 0]}]})");
+    size_t previous = 0;
+    for (int depth : {1, 2, 3}) {
+        ImplicitSurfaceOptions options;
+        options.distanceCellDepth = depth;
+        // At most the 8^depth cells of that level, and more at each level
+        // (the sphere's surface crosses 8, 56, ... of them).
+        const size_t one = ImplicitSurface(sphere, options).cells().size();
+        EXPECT_LE(one, size_t(1) << (3 * depth)) << depth;
+        EXPECT_GT(one, previous) << depth;
+        previous = one;
+        // The difference goes one level deeper than the sphere alone.
+        const size_t two = ImplicitSurface(difference, options).cells().size();
+        EXPECT_LE(two, size_t(1) << (3 * (depth + 1))) << depth;
+        EXPECT_GT(two, one) << depth;
+    }
 }
 
 TEST(ImplicitSurface, UnboundedFieldIsRefused) {
