@@ -1,5 +1,6 @@
 #include "renderer/memory_pages.h"
 
+#include <malloc.h>
 #include <sys/mman.h>
 #include <unistd.h>
 
@@ -14,10 +15,21 @@ namespace {
 constexpr int MADV_POPULATE_WRITE = 23;
 #endif
 
+// Blocks up to this size come from the heap and return to it when freed
+// (above it, mmap: the colour buffer of a render larger than 640x480).
+constexpr int kHeapBlockLimit = 4 << 20;
+// The heap's free top is returned to the kernel only above this.
+constexpr int kHeapTrimThreshold = 64 << 20;
+
 // Small buffers are not worth a system call.
 constexpr size_t kMinimumBytes = size_t(1) << 20;
 
 }  // namespace
+
+void keepFreedMemoryForReuse() {
+    mallopt(M_MMAP_THRESHOLD, kHeapBlockLimit);
+    mallopt(M_TRIM_THRESHOLD, kHeapTrimThreshold);
+}
 
 void populatePages(void* data, size_t bytes) {
     if (data == nullptr || bytes < kMinimumBytes) return;

