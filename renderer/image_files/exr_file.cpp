@@ -77,6 +77,10 @@ void writeExr(const std::string& path, const ImageFile& image, const float* pixe
     try {
         Imf::Header header(display, data);
         header.compression() = Imf::ZIP_COMPRESSION;
+        // zlib's fastest level: on rendered float images it writes files 2%
+        // larger than the default level 4 in two thirds of the time (640x480
+        // RGB: 9 ms against 13-15 ms, a tenth of a small render's process).
+        header.zipCompressionLevel() = 1;
         for (const auto& [name, value] : image.strings) header.insert(name, Imf::StringAttribute(value));
         // OpenEXR converts types when reading but not when writing: half
         // files are written from half samples.
