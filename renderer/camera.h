@@ -23,6 +23,8 @@ public:
     /// Ray through film position (x, y) in pixels (0,0 is the top-left
     /// corner), using lens sample `lens` in [0,1)^2.
     Ray generateRay(double x, double y, const Eigen::Vector2d& lens) const;
+    /// False for a pinhole (aperture 0), which ignores the lens sample.
+    bool usesLensSample() const { return settings_.aperture > 0; }
     const CameraSettings& settings() const { return settings_; }
 
 private:

@@ -38,6 +38,9 @@ public:
     }
     double get1D();
     Eigen::Vector2d get2D();
+    /// Passes over the next two dimensions unused (a pinhole camera's lens
+    /// sample), so that later ones stay the dimensions they would be.
+    void skip2D() { dimension_ += 2; }
 
 private:
     SamplerType type_;
