@@ -49,6 +49,23 @@ TEST(ImplicitSurface, DistanceCellsStopAtTheirDepth) {
     }
 }
 
+// Refinement stops at the last level within the cell budget (the level
+// over it is counted, never built).
+TEST(ImplicitSurface, KeepsWithinTheCellBudget) {
+    const FieldProgram torus = compileField(R"({"type": "torus", "major": 1, "minor": 0.3})");
+    size_t previous = 0;
+    for (size_t budget : {40, 400, 4000}) {
+        ImplicitSurfaceOptions options;
+        options.cellAccelerators.clear();  // one cell per octree cell, no parts
+        options.distanceCellDepth = options.maxDepth;
+        options.cellBudget = budget;
+        const size_t cells = ImplicitSurface(torus, options).cells().size();
+        EXPECT_LE(cells, budget);
+        EXPECT_GT(cells, previous) << budget;
+        previous = cells;
+    }
+}
+
 TEST(ImplicitSurface, UnboundedFieldIsRefused) {
     EXPECT_THROW(ImplicitSurface(compileField(R"({"type": "plane"})")), std::invalid_argument);
 }
