@@ -5,10 +5,9 @@
 namespace isotrace::geometry {
 
 AssimpLibrary& assimpLibrary() {
-    using Entry = AssimpLibrary* (*)();
     static const ModuleDescription module{"Assimp", "isotrace_assimp.so", "isotraceAssimpLibrary",
                                           "ISOTRACE_ASSIMP_MODULE", "polygon model files: .obj, .off and .ply"};
-    return *reinterpret_cast<Entry>(loadModuleEntryPoint(module))();
+    return moduleLibrary<AssimpLibrary>(module);
 }
 
 }  // namespace isotrace::geometry

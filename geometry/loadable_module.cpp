@@ -4,8 +4,6 @@
 
 #include <cstdlib>
 #include <filesystem>
-#include <map>
-#include <mutex>
 #include <stdexcept>
 #include <vector>
 
@@ -32,12 +30,6 @@ std::vector<std::filesystem::path> moduleCandidates(const std::string& moduleNam
 }  // namespace
 
 void* loadModuleEntryPoint(const ModuleDescription& m) {
-    // Once per process; a failure is not remembered, so its error repeats.
-    static std::mutex guard;
-    static std::map<std::string, void*> loaded;
-    std::lock_guard<std::mutex> lock(guard);
-    const std::string key = m.file + ":" + m.entryPoint;
-    if (auto it = loaded.find(key); it != loaded.end()) return it->second;
     std::string tried;
     for (const std::filesystem::path& candidate : moduleCandidates(m.file, m.overrideVariable)) {
         // RTLD_LOCAL: the module's own dependencies stay out of the global
@@ -47,10 +39,7 @@ void* loadModuleEntryPoint(const ModuleDescription& m) {
             tried += "\n  " + candidate.string() + ": " + dlerror();
             continue;
         }
-        if (void* entry = dlsym(module, m.entryPoint.c_str())) {
-            loaded.emplace(key, entry);
-            return entry;
-        }
+        if (void* entry = dlsym(module, m.entryPoint.c_str())) return entry;
         tried += "\n  " + candidate.string() + ": no entry point " + m.entryPoint;
     }
     throw std::runtime_error("cannot load the " + m.library + " module " + m.file + " (needed for " + m.neededFor +

@@ -17,13 +17,23 @@ struct ModuleDescription {
     std::string neededFor;         ///< for messages: "polygon model files"
 };
 
-/// The address of the module's entry point, the module loaded once per
-/// process (later calls return the same address). Looked for in
-/// $overrideVariable when that is set (only there), else next to the
-/// executable, in the folder above it (build trees: tests/, bench/), in
-/// ../lib/isotrace beside it (an installed tree) and in lib/isotrace of the
-/// configured install prefix. Throws std::runtime_error naming the module,
-/// what it is needed for and every place tried.
+/// The address of the module's entry point. Looked for in $overrideVariable
+/// when that is set (only there), else next to the executable, in the folder
+/// above it (build trees: tests/, bench/), in ../lib/isotrace beside it (an
+/// installed tree) and in lib/isotrace of the configured install prefix.
+/// Throws std::runtime_error naming the module, what it is needed for and
+/// every place tried.
 void* loadModuleEntryPoint(const ModuleDescription& module);
+
+/// The object a module's entry point (`Library* entry()`, C linkage)
+/// returns, the module loaded on the first call for this Library type. A
+/// failure is not remembered: the next call tries again, so its error
+/// repeats.
+template <typename Library>
+Library& moduleLibrary(const ModuleDescription& module) {
+    using Entry = Library* (*)();
+    static Library& library = *reinterpret_cast<Entry>(loadModuleEntryPoint(module))();
+    return library;
+}
 
 }  // namespace isotrace::geometry

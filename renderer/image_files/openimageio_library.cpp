@@ -5,11 +5,10 @@
 namespace isotrace {
 
 OpenImageIoLibrary& openImageIo() {
-    using Entry = OpenImageIoLibrary* (*)();
     static const geometry::ModuleDescription module{
         "OpenImageIO", "isotrace_openimageio.so", "isotraceOpenImageIoLibrary", "ISOTRACE_OPENIMAGEIO_MODULE",
         "images other than EXR and the PNG preview, and for textures"};
-    return *reinterpret_cast<Entry>(geometry::loadModuleEntryPoint(module))();
+    return geometry::moduleLibrary<OpenImageIoLibrary>(module);
 }
 
 }  // namespace isotrace
