@@ -116,7 +116,7 @@ public:
                 const double weight = q * q * q;
                 const VariationalPatch& model = models_[part.first + k];
                 n.value[k] = model.value(x);
-                modelTerms += VariationalPatch::kMonomials + model.near.size();
+                modelTerms += VariationalPatch::kMonomials + model.nearTermCount();
                 n.model += weight * n.value[k];
                 error += weight * l.valueError;
                 noise += weight * l.evaluationNoise;
@@ -351,12 +351,12 @@ std::optional<CellAcceleration> PartitionedVariationalCellAccelerator::accelerat
                 std::optional<VariationalPatch> model;
                 if (l.combination == MpuCombination::Interpolant)
                     model = buildVariationalPatch(field.interpolants()[l.first], b);
-                if (!model) {  // or Hermite constraints: no model
+                if (!model) {
                     declined = true;
                     return;
                 }
                 worst = std::max(worst, model->valueError);
-                nearTerms += model->near.size();
+                nearTerms += model->nearTermCount();
                 allTerms += field.interpolants()[l.first].termCount();
                 partModels.push_back(std::move(*model));
             }

@@ -231,7 +231,7 @@ std::optional<CellAcceleration> VariationalCsgCellAccelerator::accelerate(const 
                 for (int x = 0; x < split; ++x) {
                     const Vec3 lower = leafBox.lower + size.cwiseProduct(Vec3(x, y, z));
                     std::optional<VariationalPatch> model = buildVariationalPatch(field, Box3(lower, lower + size));
-                    if (!model) return std::nullopt;  // Hermite constraints: no model
+                    if (!model) return std::nullopt;
                     worst = std::max(worst, model->valueError);
                     models.push_back(std::move(*model));
                 }

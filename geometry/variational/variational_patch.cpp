@@ -61,6 +61,44 @@ inline double delta(int i, int j) { return i == j ? 1.0 : 0.0; }
 
 // Bound on |d^5/dt^5 |x + t u|^3| * r^2 for unit u (see the header).
 constexpr double kFifthDerivative = 12.88;
+// Bound on |d^5/dt^5 psi| * r^3 / |b| for a Hermite term psi = 3 r (b.d):
+// 3 (max |a (1 - a^2) (45 - 105 a^2)| + 5 * 3), a the cosine between the
+// line and d (the first from D^5 r, the second from 5 (b.u) D^4 r).
+constexpr double kHermiteFifthDerivative = 3.0 * (9.882 + 15.0);
+
+inline constexpr double pick(int axis, double x, double y, double z) { return axis == 0 ? x : axis == 1 ? y : z; }
+
+// The partial derivative d^(A,B,C) of r = |d| at d, given 1/r, 1/r^3, 1/r^5
+// and 1/r^7 (by induction from d_i r = d_i / r; every Kronecker delta is a
+// compile-time constant).
+template <int A, int B, int C>
+inline double radialDerivative(double x, double y, double z, double r, double i1, double i3, double i5, double i7) {
+    constexpr int n = A + B + C;
+    static constexpr std::array<int, 4> ax = [] {
+        std::array<int, 4> a{0, 0, 0, 0};
+        int k = 0;
+        for (int i = 0; i < A; ++i) a[k++] = 0;
+        for (int i = 0; i < B; ++i) a[k++] = 1;
+        for (int i = 0; i < C; ++i) a[k++] = 2;
+        return a;
+    }();
+    auto d = [&](int k) { return pick(ax[k], x, y, z); };
+    auto delta = [](int i, int j) { return ax[i] == ax[j] ? 1.0 : 0.0; };
+    if constexpr (n == 0) {
+        return r;
+    } else if constexpr (n == 1) {
+        return d(0) * i1;
+    } else if constexpr (n == 2) {
+        return delta(0, 1) * i1 - d(0) * d(1) * i3;
+    } else if constexpr (n == 3) {
+        return -(delta(0, 1) * d(2) + delta(0, 2) * d(1) + delta(1, 2) * d(0)) * i3 + 3.0 * d(0) * d(1) * d(2) * i5;
+    } else {
+        const double pairs = delta(0, 1) * delta(2, 3) + delta(0, 2) * delta(1, 3) + delta(0, 3) * delta(1, 2);
+        const double mixed = delta(0, 1) * d(2) * d(3) + delta(0, 2) * d(1) * d(3) + delta(0, 3) * d(1) * d(2) +
+                             delta(1, 2) * d(0) * d(3) + delta(1, 3) * d(0) * d(2) + delta(2, 3) * d(0) * d(1);
+        return -pairs * i3 + 3.0 * mixed * i5 - 15.0 * d(0) * d(1) * d(2) * d(3) * i7;
+    }
+}
 
 template <int K>
 inline double power(double x) {
@@ -81,6 +119,21 @@ struct Scratch {
     void resize(size_t n) {
         for (auto* v : {&dx, &dy, &dz, &r, &r3Weight, &rWeight, &hessianWeight, &farInvR, &farInvR3, &farInvR5,
                         &remainder, &magnitude})
+            v->resize(n);
+    }
+};
+
+// Per Hermite term: d = x0 - c, r, b (the negated gradient weight) and
+// s = b.d for every term (the orders 0 and 1 the near ones share), and the
+// same masked to far terms with inverse powers of r safe at near ones.
+struct HermiteScratch {
+    std::vector<double> dx, dy, dz, r, inverseR, s, bx, by, bz;
+    std::vector<double> farR, farInvR, farInvR3, farInvR5, farInvR7, farS, farBx, farBy, farBz;
+    std::vector<double> remainder, magnitude;  // |b| / (r - s)^3 (far), 3 |b| (r + s)^2
+
+    void resize(size_t n) {
+        for (auto* v : {&dx, &dy, &dz, &r, &inverseR, &s, &bx, &by, &bz, &farR, &farInvR, &farInvR3, &farInvR5,
+                        &farInvR7, &farS, &farBx, &farBy, &farBz, &remainder, &magnitude})
             v->resize(n);
     }
 };
@@ -135,10 +188,41 @@ void accumulateMonomials(const Scratch& s, TermSums& out, std::index_sequence<I.
     (accumulateMonomial<I>(s, out), ...);
 }
 
+// d^alpha of sum_k 3 r_k (b_k.d_k), alpha the monomial I: by Leibniz with
+// s = b.d linear, 3 (s d^alpha r + sum_i alpha_i b_i d^(alpha - e_i) r).
+// Orders 0 and 1 sum every term, higher orders the far ones.
+template <size_t I>
+double hermiteDerivative(const HermiteScratch& q) {
+    constexpr int a = kExponents[I][0], b = kExponents[I][1], c = kExponents[I][2], degree = a + b + c;
+    const bool all = degree <= 1;
+    const double *x = q.dx.data(), *y = q.dy.data(), *z = q.dz.data();
+    const double *r = all ? q.r.data() : q.farR.data(), *i1 = all ? q.inverseR.data() : q.farInvR.data();
+    const double *i3 = q.farInvR3.data(), *i5 = q.farInvR5.data(), *i7 = q.farInvR7.data();
+    const double *sv = all ? q.s.data() : q.farS.data(), *bx = all ? q.bx.data() : q.farBx.data(),
+                 *by = all ? q.by.data() : q.farBy.data(), *bz = all ? q.bz.data() : q.farBz.data();
+    const size_t n = q.dx.size();
+    double sum = 0.0;
+#pragma omp simd reduction(+ : sum)
+    for (size_t j = 0; j < n; ++j) {
+        double term = sv[j] * radialDerivative<a, b, c>(x[j], y[j], z[j], r[j], i1[j], i3[j], i5[j], i7[j]);
+        if constexpr (a > 0) term += a * bx[j] * radialDerivative<a - 1, b, c>(x[j], y[j], z[j], r[j], i1[j], i3[j], i5[j], i7[j]);
+        if constexpr (b > 0) term += b * by[j] * radialDerivative<a, b - 1, c>(x[j], y[j], z[j], r[j], i1[j], i3[j], i5[j], i7[j]);
+        if constexpr (c > 0) term += c * bz[j] * radialDerivative<a, b, c - 1>(x[j], y[j], z[j], r[j], i1[j], i3[j], i5[j], i7[j]);
+        sum += term;
+    }
+    return 3.0 * sum;
+}
+
+template <size_t... I>
+void accumulateHermiteMonomials(const HermiteScratch& q, std::array<double, VariationalPatch::kMonomials>& out,
+                                std::index_sequence<I...>) {
+    ((out[I] = hermiteDerivative<I>(q)), ...);
+}
+
 }  // namespace
 
 std::optional<VariationalPatch> buildVariationalPatch(const VariationalField& field, const Box3& box) {
-    if (!field.gradientCenters.empty() || box.isEmpty() || !box.isFinite()) return std::nullopt;
+    if (box.isEmpty() || !box.isFinite()) return std::nullopt;
     const MonomialTable& table = monomials();
     VariationalPatch patch;
     patch.box = box;
@@ -146,6 +230,7 @@ std::optional<VariationalPatch> buildVariationalPatch(const VariationalField& fi
     patch.expansionPoint = x0;
     const double s = box.halfDiagonal();
     const double nearRadius = kNearFactor * s;
+    const double hermiteNearRadius = kHermiteNearFactor * s;
 
     // Near terms enter the polynomial up to second order only (their third
     // derivative jumps at their centre) and are corrected exactly when the
@@ -184,6 +269,47 @@ std::optional<VariationalPatch> buildVariationalPatch(const VariationalField& fi
             const double r = scratch.r[j];
             patch.near.push_back({field.centers[j], w[j], r, r > 0 ? 1.0 / r : 0.0});
         }
+    // Hermite terms, by the same rule.
+    thread_local HermiteScratch hermite;
+    const size_t nh = field.gradientCenters.size();
+    hermite.resize(nh);
+    double hermiteRemainderSum = 0.0, hermiteMagnitudeSum = 0.0;
+    std::array<double, VariationalPatch::kMonomials> hermiteSums{};
+    if (nh > 0) {
+        HermiteScratch& q = hermite;
+        const double* hc = field.gradientCenters[0].data();
+        const double* hw = field.gradientWeights[0].data();
+#pragma omp simd
+        for (size_t j = 0; j < nh; ++j) {
+            const double dx = x0.x() - hc[3 * j], dy = x0.y() - hc[3 * j + 1], dz = x0.z() - hc[3 * j + 2];
+            const double bx = -hw[3 * j], by = -hw[3 * j + 1], bz = -hw[3 * j + 2];
+            const double r = std::sqrt(dx * dx + dy * dy + dz * dz), sv = bx * dx + by * dy + bz * dz;
+            const double bNorm = std::sqrt(bx * bx + by * by + bz * bz);
+            const bool far = r >= hermiteNearRadius;
+            const double rFar = far ? r : 1.0, inv = 1.0 / rFar, inv2 = inv * inv, mask = far ? 1.0 : 0.0;
+            q.dx[j] = dx, q.dy[j] = dy, q.dz[j] = dz, q.r[j] = r;
+            q.inverseR[j] = r > 0 ? 1.0 / r : 0.0;
+            q.s[j] = sv, q.bx[j] = bx, q.by[j] = by, q.bz[j] = bz;
+            q.farR[j] = rFar;
+            q.farInvR[j] = inv, q.farInvR3[j] = inv * inv2, q.farInvR5[j] = inv * inv2 * inv2,
+            q.farInvR7[j] = inv * inv2 * inv2 * inv2;
+            q.farS[j] = mask * sv, q.farBx[j] = mask * bx, q.farBy[j] = mask * by, q.farBz[j] = mask * bz;
+            const double gap = far ? r - s : 1.0;
+            q.remainder[j] = mask * bNorm / (gap * gap * gap);
+            q.magnitude[j] = 3.0 * bNorm * (r + s) * (r + s);
+        }
+        for (size_t j = 0; j < nh; ++j) {
+            if (q.r[j] >= hermiteNearRadius) continue;
+            const Vec3 d(q.dx[j], q.dy[j], q.dz[j]), b(q.bx[j], q.by[j], q.bz[j]);
+            const double r = q.r[j], sv = q.s[j];
+            patch.nearHermite.push_back({field.gradientCenters[j], b, 3.0 * r * sv,
+                                         r > 0 ? Vec3(3.0 * (sv / r * d + r * b)) : Vec3::Zero()});
+        }
+        accumulateHermiteMonomials(q, hermiteSums, std::make_index_sequence<VariationalPatch::kMonomials>());
+        hermiteRemainderSum = plainSum(q.remainder);
+        hermiteMagnitudeSum = plainSum(q.magnitude);
+    }
+
     constexpr int M = VariationalPatch::kMonomials;
     TermSums sums;
     sums.r3Sum = plainSum(scratch.r3Weight);
@@ -230,16 +356,20 @@ std::optional<VariationalPatch> buildVariationalPatch(const VariationalField& fi
                 break;
             }
         }
-        patch.coefficients[n] = derivative * table.inverseFactorial[n];
+        patch.coefficients[n] = (derivative + hermiteSums[n]) * table.inverseFactorial[n];
     }
 
     // Rounding: every coefficient is a sum of N terms whose sizes the
     // magnitude sum majorises (with room to spare for the Taylor weights).
     const double unitRoundoff = std::numeric_limits<double>::epsilon() / 2;
-    const double rounding = 16.0 * double(field.centers.size() + M) * unitRoundoff * magnitudeSum;
+    const double rounding =
+        16.0 * double(field.centers.size() + nh + M) * unitRoundoff * (magnitudeSum + hermiteMagnitudeSum);
     const double s4 = s * s * s * s;
-    patch.gradientError = kFifthDerivative / 24.0 * s4 * remainderSum + 4.0 * rounding / std::max(s, 1e-300);
-    patch.hessianError = kFifthDerivative / 6.0 * s * s * s * remainderSum + 12.0 * rounding / std::max(s * s, 1e-300);
+    // Bound on the fifth directional derivative of the far terms' sum, with
+    // each term's r at its nearest to the box.
+    const double fifth = kFifthDerivative * remainderSum + kHermiteFifthDerivative * hermiteRemainderSum;
+    patch.gradientError = fifth / 24.0 * s4 + 4.0 * rounding / std::max(s, 1e-300);
+    patch.hessianError = fifth / 6.0 * s * s * s + 12.0 * rounding / std::max(s * s, 1e-300);
 
     // |grad f| over the box: each monomial's gradient bounded by the box's
     // half extents, then the error and the near terms.
@@ -257,11 +387,15 @@ std::optional<VariationalPatch> buildVariationalPatch(const VariationalField& fi
     }
     // A near term's correction w (|x - c|^3 - its quadratic Taylor
     // polynomial) is at most |w| |h|^3, its gradient 3 |w| |h|^2 (|D^3 r^3| <= 6).
-    double nearWeight = 0.0;
+    // A near Hermite term's correction (psi less its first-order Taylor
+    // polynomial) is at most 4.5 |b| |h|^2, its gradient 9 |b| |h|.
+    double nearWeight = 0.0, nearHermiteWeight = 0.0;
     for (const NearTerm& t : patch.near) nearWeight += std::abs(t.weight);
+    for (const HermiteNearTerm& t : patch.nearHermite) nearHermiteWeight += t.direction.norm();
     const double polynomialGradient =
         std::sqrt(axisBound[0] * axisBound[0] + axisBound[1] * axisBound[1] + axisBound[2] * axisBound[2]);
-    patch.lipschitz = polynomialGradient + patch.gradientError + 3.0 * nearWeight * s * s;
+    patch.lipschitz =
+        polynomialGradient + patch.gradientError + 3.0 * nearWeight * s * s + 9.0 * nearHermiteWeight * s;
     double polynomialSpread = 0.0;
     for (int m = 1; m < M; ++m) {
         const auto& e = table.exponents[m];
@@ -271,9 +405,13 @@ std::optional<VariationalPatch> buildVariationalPatch(const VariationalField& fi
     // parts are each at most |w| (r0 + s)^3.
     double nearMagnitude = 0.0;
     for (const NearTerm& t : patch.near) nearMagnitude += std::abs(t.weight) * std::pow(t.distance + s, 3);
+    for (const HermiteNearTerm& t : patch.nearHermite) {
+        const double reach = (patch.expansionPoint - t.center).norm() + s;
+        nearMagnitude += 3.0 * t.direction.norm() * reach * reach;
+    }
     patch.evaluationNoise = 64.0 * unitRoundoff * (std::abs(patch.coefficients[0]) + polynomialSpread + 2.0 * nearMagnitude);
-    patch.valueError = kFifthDerivative / 120.0 * s4 * s * remainderSum + rounding + patch.evaluationNoise;
-    const double spread = polynomialSpread + nearWeight * s * s * s + patch.valueError;
+    patch.valueError = fifth / 120.0 * s4 * s + rounding + patch.evaluationNoise;
+    const double spread = polynomialSpread + nearWeight * s * s * s + 4.5 * nearHermiteWeight * s * s + patch.valueError;
     patch.range = {patch.coefficients[0] - spread, patch.coefficients[0] + spread};
     patch.holdsNoZero = !patch.range.containsZero();
     return patch;
@@ -344,10 +482,17 @@ inline double nearCorrection(const NearTerm& t, const Vec3& x, const Vec3& h) {
     return t.weight * (r * r * r - q);
 }
 
+// 3 |d| (b.d) less its value and gradient at the expansion point.
+inline double nearHermiteCorrection(const HermiteNearTerm& t, const Vec3& x, const Vec3& h) {
+    const Vec3 d = x - t.center;
+    return 3.0 * d.norm() * t.direction.dot(d) - t.valueAtExpansion - t.gradientAtExpansion.dot(h);
+}
+
 double VariationalPatch::value(const Vec3& x) const {
     const Vec3 h = x - expansionPoint;
     double sum = polynomial(coefficients, h);
     for (const NearTerm& t : near) sum += nearCorrection(t, x, h);
+    for (const HermiteNearTerm& t : nearHermite) sum += nearHermiteCorrection(t, x, h);
     return sum;
 }
 
@@ -371,6 +516,14 @@ double VariationalPatch::valueAndGradient(const Vec3& x, Vec3& gradient) const {
         const Vec3 d = x - t.center, d0 = d - h;
         const double r = d.norm(), r0 = t.distance;
         g += t.weight * (3.0 * r * d - 3.0 * r0 * d0 - 3.0 * (r0 * h + d0.dot(h) * t.inverseDistance * d0));
+    }
+    for (const HermiteNearTerm& t : nearHermite) {
+        sum += nearHermiteCorrection(t, x, h);
+        // grad 3 r (b.d) = 3 ((b.d) d / r + r b)
+        const Vec3 d = x - t.center;
+        const double r = d.norm();
+        if (r > 0) g += 3.0 * (t.direction.dot(d) / r * d + r * t.direction);
+        g -= t.gradientAtExpansion;
     }
     gradient = g;
     return sum;

@@ -37,6 +37,15 @@ TEST(PartitionedVariationalCells, ScannedSphereAgreesWithMarching) {
     isotrace::testing::expectSameHitsAsMarching(program, 300, 50, 0, 0.999, partitionedOnly());
 }
 
+TEST(PartitionedVariationalCells, HermiteFitAgreesWithMarching) {
+    // Gradient constraints at the points: every interpolant's models carry
+    // Hermite terms.
+    std::string scan = partitionedSphereScan();
+    scan.insert(scan.rfind('}', scan.size() - 2), R"(, "hermite": true)");
+    const FieldProgram program = compileField(scan);
+    isotrace::testing::expectSameHitsAsMarching(program, 300, 50, 0, 0.999, partitionedOnly());
+}
+
 TEST(PartitionedVariationalCells, TurnedAndStretchedFitAgreesWithMarching) {
     const FieldProgram program =
         compileField(R"({"type": "transform", "scale": [1, 0.6, 1], "rotate": {"axis": [1, 1, 0], "angle": 30},

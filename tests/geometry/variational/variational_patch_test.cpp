@@ -29,6 +29,20 @@ const VariationalField& handField() {
     return field;
 }
 
+// A Hermite fit (value and exact gradient constraints) of every sixth
+// vertex of the hand: terms 3 |d| (b.d) besides the r^3 ones.
+const VariationalField& hermiteHandField() {
+    static const VariationalField field = [] {
+        const auto all = orientedPointsOfMesh(readMeshFile(std::string(ISOTRACE_SOURCE_DIR) + "/scenes/meshes/hand.off"));
+        std::vector<OrientedPoint> points;
+        for (size_t i = 0; i < all.size(); i += 6) points.push_back(all[i]);
+        VariationalField f = fitVariationalField(constraintsFromOrientedPoints(points, defaultNormalOffset(points), true));
+        EXPECT_FALSE(f.gradientCenters.empty());
+        return f;
+    }();
+    return field;
+}
+
 // Boxes of the given edge centred on random constraint positions: where the
 // surface is, and where centres lie inside the box (near terms).
 std::vector<Box3> boxesOnTheSurface(const VariationalField& f, double edge, int count, std::mt19937& rng) {
@@ -49,10 +63,10 @@ Vec3 randomPointIn(const Box3& box, std::mt19937& rng) {
 
 }  // namespace
 
-TEST(VariationalPatch, ExactAtTheExpansionPointWithTheExactGradient) {
-    const VariationalField& f = handField();
-    std::mt19937 rng(3);
-    for (const Box3& box : boxesOnTheSurface(f, 0.03, 20, rng)) {
+namespace {
+
+void expectExactAtTheExpansionPoint(const VariationalField& f, std::vector<Box3> boxes) {
+    for (const Box3& box : boxes) {
         const auto patch = buildVariationalPatch(f, box);
         ASSERT_TRUE(patch);
         Vec3 g, gp;
@@ -60,12 +74,15 @@ TEST(VariationalPatch, ExactAtTheExpansionPointWithTheExactGradient) {
         const double vp = patch->valueAndGradient(box.center(), gp);
         EXPECT_NEAR(vp, v, 1e-9);
         EXPECT_LT((gp - g).norm(), 1e-7);
+        EXPECT_NEAR(patch->value(box.center()), v, 1e-9);
     }
 }
 
-TEST(VariationalPatch, StaysWithinItsStatedErrors) {
-    const VariationalField& f = handField();
-    std::mt19937 rng(5);
+// At random points of boxes on the surface, the model is within its stated
+// value, gradient and Hessian errors of the field, the field's gradient
+// within the model's bound, its value within the model's range.
+void expectWithinStatedErrors(const VariationalField& f, unsigned seed) {
+    std::mt19937 rng(seed);
     int checked = 0;
     for (double edge : {0.01, 0.02, 0.05}) {
         for (const Box3& box : boxesOnTheSurface(f, edge, 30, rng)) {
@@ -99,6 +116,36 @@ TEST(VariationalPatch, StaysWithinItsStatedErrors) {
     EXPECT_EQ(checked, 3 * 30 * 40);
 }
 
+}  // namespace
+
+TEST(VariationalPatch, ExactAtTheExpansionPointWithTheExactGradient) {
+    std::mt19937 rng(3);
+    expectExactAtTheExpansionPoint(handField(), boxesOnTheSurface(handField(), 0.03, 20, rng));
+}
+
+TEST(VariationalPatch, StaysWithinItsStatedErrors) { expectWithinStatedErrors(handField(), 5); }
+
+TEST(VariationalPatch, HermiteModelIsExactAtTheExpansionPoint) {
+    const VariationalField& f = hermiteHandField();
+    std::mt19937 rng(7);
+    std::vector<Box3> boxes = boxesOnTheSurface(f, 0.03, 20, rng);
+    // A gradient constraint's centre at the expansion point itself, where
+    // the term is only once differentiable.
+    boxes.push_back(Box3::around(f.gradientCenters[3], 0.02));
+    expectExactAtTheExpansionPoint(f, boxes);
+}
+
+TEST(VariationalPatch, HermiteModelStaysWithinItsStatedErrors) { expectWithinStatedErrors(hermiteHandField(), 9); }
+
+TEST(VariationalPatch, HermiteErrorShrinksWithTheBox) {
+    const VariationalField& f = hermiteHandField();
+    const Box3 big = Box3::around(f.centers[10], 0.02), small = Box3::around(f.centers[10], 0.01);
+    const auto a = buildVariationalPatch(f, big), b = buildVariationalPatch(f, small);
+    ASSERT_TRUE(a && b);
+    EXPECT_LT(b->valueError, a->valueError / 8);
+    EXPECT_FALSE(b->nearHermite.empty());
+}
+
 TEST(VariationalPatch, ErrorShrinksWithTheFifthPowerOfTheBox) {
     const VariationalField& f = handField();
     const Box3 big = Box3::around(f.centers[100], 0.01), small = Box3::around(f.centers[100], 0.005);
@@ -112,13 +159,28 @@ TEST(VariationalPatch, ErrorShrinksWithTheFifthPowerOfTheBox) {
     EXPECT_LT(b->valueError, 1e-3);
 }
 
-TEST(VariationalPatch, HermiteFieldsHaveNone) {
+TEST(VariationalPatch, SingleHermiteTermAgreesFarAndNear) {
+    // One term 3 |d| (b.d) (weight -b) seen from boxes at several distances:
+    // far (in the polynomial), near (exact correction) and centred on it.
     VariationalField f;
-    f.centers = {Vec3(0, 0, 0)};
-    f.weights = {1.0};
-    f.gradientCenters = {Vec3(1, 0, 0)};
-    f.gradientWeights = {Vec3(0, 1, 0)};
-    EXPECT_FALSE(buildVariationalPatch(f, Box3::around(Vec3(0, 0, 0), 1)));
+    f.gradientCenters = {Vec3(0.3, -0.2, 0.1)};
+    f.gradientWeights = {Vec3(0.5, -1.0, 2.0)};
+    std::mt19937 rng(11);
+    for (double away : {0.0, 0.05, 0.2, 1.0, 3.0}) {
+        const Box3 box = Box3::around(f.gradientCenters[0] + away * Vec3(0.6, 0.8, 0.0), 0.1);
+        const auto patch = buildVariationalPatch(f, box);
+        ASSERT_TRUE(patch);
+        EXPECT_EQ(patch->nearHermite.size(), away < 0.3 ? 1u : 0u) << away;
+        for (int i = 0; i < 50; ++i) {
+            const Vec3 x = i < 8 ? box.corner(i) : randomPointIn(box, rng);
+            Vec3 g, gp;
+            const double v = f.valueAndGradient(x, g), vp = patch->valueAndGradient(x, gp);
+            ASSERT_LE(std::abs(vp - v), patch->valueError) << away;
+            ASSERT_LE((gp - g).norm(), patch->gradientError + 1e-12) << away;
+            ASSERT_LE(g.norm(), patch->lipschitz) << away;
+            ASSERT_TRUE(patch->range.contains(v)) << away;
+        }
+    }
 }
 
 namespace {
@@ -134,6 +196,12 @@ void expectSameHits(const FieldProgram& program, int rays) {
 TEST(VariationalPatchTracing, HandAgreesWithExactMarching) {
     FieldProgram program;
     program.addLeaf(VariationalLeafField{std::make_shared<VariationalField>(handField())});
+    expectSameHits(program, 150);
+}
+
+TEST(VariationalPatchTracing, HermiteHandAgreesWithExactMarching) {
+    FieldProgram program;
+    program.addLeaf(VariationalLeafField{std::make_shared<VariationalField>(hermiteHandField())});
     expectSameHits(program, 150);
 }
 
