@@ -7,7 +7,7 @@
 // sign and a step of |bound| / L, and only where it cannot (within about the
 // model's error of the surface) is the exact tree evaluated. L comes from
 // the models' gradient bounds, far tighter than interval sums over the cell.
-// Hermite fields have no model and stay with the general tracer.
+// Hermite fields are modelled alike (their gradient terms in the model).
 #pragma once
 
 #include "geometry/tracing/cell_accelerator.h"
