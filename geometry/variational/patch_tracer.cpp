@@ -12,6 +12,16 @@ namespace {
 
 inline int signOf(double v) { return (v > 0) - (v < 0); }
 
+// The first root after 0 of a + b x - c x^2 (a > 0, c >= 0): how far a
+// value of at least a, moving with slope at least b and curving by at most
+// 2c, surely keeps its sign. Infinite when it never falls to 0.
+inline double parabolaReach(double a, double b, double c) {
+    if (!(a > 0)) return 0.0;
+    const double root = std::sqrt(b * b + 4.0 * a * c);
+    if (b < 0) return 2.0 * a / (root - b);  // the stable form
+    return c > 0 ? (b + root) / (2.0 * c) : std::numeric_limits<double>::infinity();
+}
+
 // What one exact evaluation says about f near it: e = f - model is known
 // there, with its slope along the ray, and the model's gradient and Hessian
 // errors bound how fast that knowledge fades with distance.
@@ -85,6 +95,10 @@ PatchTraceResult tracePatch(const VariationalPatch& patch, const VariationalFiel
     };
 
     const double stepScale = 1.0 / (patch.lipschitz * speed);
+    // Along the ray the model curves by at most this; so does e = f - model
+    // by the Hessian error.
+    const double modelCurvature = patch.curvature * speed * speed,
+                 errorCurvature = patch.hessianError * speed * speed, slopeNoise = patch.gradientNoise * speed;
     double t = tStart;
     while (t <= tEnd) {
         if (++result.steps > maxSteps) {
@@ -93,7 +107,8 @@ PatchTraceResult tracePatch(const VariationalPatch& patch, const VariationalFiel
             return result;
         }
         const Vec3 p = origin + t * direction;
-        const double model = patch.value(p);
+        double modelSlope;
+        const double model = patch.valueAndSlope(p, direction, modelSlope);
         const bool atAnchor = anchor.made && t == anchor.t;
         // The sign f certainly has here, and how far |f| is from 0.
         int sign = 0;
@@ -119,7 +134,21 @@ PatchTraceResult tracePatch(const VariationalPatch& patch, const VariationalFiel
             if (!std::isnan(root)) return hitAt(root, result.gradient);
             side = sign;
         }
-        const double step = margin * stepScale;
+        // The step: |f| >= margin - L |dx| > 0 within margin / L; or, from
+        // the model's value and slope, the parabola below sign * f (the
+        // model's curvature, and the error's bound: e within the value
+        // error, or its drift from the anchor).
+        double step = margin * stepScale;
+        const double ownSlope = sign * modelSlope - slopeNoise;
+        if (std::abs(model) > patch.valueError && signOf(model) == sign)
+            step = std::max(step, parabolaReach(std::abs(model) - patch.valueError, ownSlope, 0.5 * modelCurvature));
+        if (anchor.made) {
+            const double away = t - anchor.t;
+            const double a = sign * (model + anchor.offset + anchor.offsetSlope * away) - patch.evaluationNoise -
+                             0.5 * errorCurvature * away * away;
+            const double b = ownSlope + sign * anchor.offsetSlope - errorCurvature * away;
+            step = std::max(step, parabolaReach(a, b, 0.5 * (modelCurvature + errorCurvature)));
+        }
         if (step >= minStep) {
             // No root within `step`: |f| >= margin - L |dx| > 0.
             tCleared = t;

@@ -394,6 +394,28 @@ std::optional<VariationalPatch> buildVariationalPatch(const VariationalField& fi
     for (const HermiteNearTerm& t : patch.nearHermite) nearHermiteWeight += t.direction.norm();
     const double polynomialGradient =
         std::sqrt(axisBound[0] * axisBound[0] + axisBound[1] * axisBound[1] + axisBound[2] * axisBound[2]);
+    // ||D^2 model||: each second partial of the polynomial bounded
+    // monomial by monomial, the matrix of bounds' Frobenius norm bounding
+    // the operator norm; a near r^3 term's correction changes its Hessian
+    // by at most 6 |w| |h| (|D^3 r^3| <= 6), a Hermite one's is at most 9 |b|.
+    double secondBound[3][3] = {};
+    for (int n = 1; n < M; ++n) {
+        const auto& e = table.exponents[n];
+        for (int i = 0; i < 3; ++i)
+            for (int j = i; j < 3; ++j) {
+                int power[3] = {e[0], e[1], e[2]};
+                double m = power[i]--;
+                if (m == 0) continue;
+                m *= power[j]--;
+                if (m == 0) continue;
+                if (power[0] < 0 || power[1] < 0 || power[2] < 0) continue;
+                secondBound[i][j] += std::abs(patch.coefficients[n]) * m * ph.p[0][power[0]] * ph.p[1][power[1]] * ph.p[2][power[2]];
+            }
+    }
+    double frobenius = 0.0;
+    for (int i = 0; i < 3; ++i)
+        for (int j = i; j < 3; ++j) frobenius += (i == j ? 1.0 : 2.0) * secondBound[i][j] * secondBound[i][j];
+    patch.curvature = std::sqrt(frobenius) + 6.0 * nearWeight * s + 9.0 * nearHermiteWeight;
     patch.lipschitz =
         polynomialGradient + patch.gradientError + 3.0 * nearWeight * s * s + 9.0 * nearHermiteWeight * s;
     double polynomialSpread = 0.0;
@@ -411,6 +433,8 @@ std::optional<VariationalPatch> buildVariationalPatch(const VariationalField& fi
     }
     patch.evaluationNoise = 64.0 * unitRoundoff * (std::abs(patch.coefficients[0]) + polynomialSpread + 2.0 * nearMagnitude);
     patch.valueError = fifth / 120.0 * s4 * s + rounding + patch.evaluationNoise;
+    // Each gradient component sums terms at most degree / s times the value's.
+    patch.gradientNoise = 4.0 * patch.evaluationNoise / std::max(s, 1e-300);
     const double spread = polynomialSpread + nearWeight * s * s * s + 4.5 * nearHermiteWeight * s * s + patch.valueError;
     patch.range = {patch.coefficients[0] - spread, patch.coefficients[0] + spread};
     patch.holdsNoZero = !patch.range.containsZero();
@@ -493,6 +517,55 @@ double VariationalPatch::value(const Vec3& x) const {
     double sum = polynomial(coefficients, h);
     for (const NearTerm& t : near) sum += nearCorrection(t, x, h);
     for (const HermiteNearTerm& t : nearHermite) sum += nearHermiteCorrection(t, x, h);
+    return sum;
+}
+
+namespace {
+
+// The polynomial and its derivative along d, by the same nested Horner rules
+// on dual numbers (v, v'): (v, v') (h, d) = (v h, v' h + v d).
+inline double polynomialAndSlope(const std::array<double, VariationalPatch::kMonomials>& coefficients, const Vec3& h,
+                                 const Vec3& d, double& slope) {
+    int n = VariationalPatch::kMonomials;
+    double px = 0.0, dpx = 0.0;
+    for (int a = 4; a >= 0; --a) {
+        double py = 0.0, dpy = 0.0;
+        for (int b = 4 - a; b >= 0; --b) {
+            double pz = 0.0, dpz = 0.0;
+            for (int c = 4 - a - b; c >= 0; --c) {
+                dpz = dpz * h.z() + pz * d.z();
+                pz = pz * h.z() + coefficients[--n];
+            }
+            dpy = dpy * h.y() + py * d.y() + dpz;
+            py = py * h.y() + pz;
+        }
+        dpx = dpx * h.x() + px * d.x() + dpy;
+        px = px * h.x() + py;
+    }
+    slope = dpx;
+    return px;
+}
+
+}  // namespace
+
+double VariationalPatch::valueAndSlope(const Vec3& x, const Vec3& direction, double& slope) const {
+    const Vec3 h = x - expansionPoint;
+    double sum = polynomialAndSlope(coefficients, h, direction, slope);
+    for (const NearTerm& t : near) {
+        sum += nearCorrection(t, x, h);
+        const Vec3 d = x - t.center, d0 = d - h;
+        const double r = d.norm(), r0 = t.distance;
+        slope += t.weight * 3.0 *
+                 (r * d.dot(direction) - r0 * d0.dot(direction) -
+                  (r0 * h.dot(direction) + d0.dot(h) * t.inverseDistance * d0.dot(direction)));
+    }
+    for (const HermiteNearTerm& t : nearHermite) {
+        sum += nearHermiteCorrection(t, x, h);
+        const Vec3 d = x - t.center;
+        const double r = d.norm();
+        if (r > 0) slope += 3.0 * (t.direction.dot(d) / r * d.dot(direction) + r * t.direction.dot(direction));
+        slope -= t.gradientAtExpansion.dot(direction);
+    }
     return sum;
 }
 

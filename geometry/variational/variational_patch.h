@@ -72,6 +72,11 @@ struct VariationalPatch {
     /// adds it to the bounds it derives from the other two).
     double evaluationNoise = 0.0;
     double lipschitz = 0.0;      ///< |grad f| over the box
+    /// ||D^2 model|| over the box (the model's, not f's: with the model's
+    /// slope at a point it bounds the model along a ray by a parabola).
+    double curvature = 0.0;
+    /// Rounding in evaluating the model's gradient.
+    double gradientNoise = 0.0;
     Interval range;              ///< of f over the box
     /// |f| > 0 everywhere in the box (the model at the centre minus the
     /// gradient bound times the half-diagonal and the error): rays skip it.
@@ -83,6 +88,8 @@ struct VariationalPatch {
     /// The model (polynomial plus near terms) and its gradient.
     double value(const Vec3& x) const;
     double valueAndGradient(const Vec3& x, Vec3& gradient) const;
+    /// The model and its derivative along `direction` (grad . direction).
+    double valueAndSlope(const Vec3& x, const Vec3& direction, double& slope) const;
 };
 
 /// Centres closer to the box centre than this many half-diagonals are near

@@ -83,6 +83,7 @@ void expectExactAtTheExpansionPoint(const VariationalField& f, std::vector<Box3>
 // within the model's bound, its value within the model's range.
 void expectWithinStatedErrors(const VariationalField& f, unsigned seed) {
     std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> jitter(-1.0, 1.0);
     int checked = 0;
     for (double edge : {0.01, 0.02, 0.05}) {
         for (const Box3& box : boxesOnTheSurface(f, edge, 30, rng)) {
@@ -108,6 +109,19 @@ void expectWithinStatedErrors(const VariationalField& f, unsigned seed) {
                 ASSERT_LE(std::abs(e - ea), patch->gradientError * distance + 2 * patch->evaluationNoise);
                 ASSERT_LE(std::abs(e - ea - gradientEa.dot(x - a)),
                           0.5 * patch->hessianError * distance * distance + 2 * patch->evaluationNoise)
+                    << "edge " << edge;
+                // The slope along a direction is the model gradient's.
+                const Vec3 u = Vec3(jitter(rng), jitter(rng), jitter(rng)).normalized();
+                double slope;
+                ASSERT_NEAR(patch->valueAndSlope(x, u, slope), vp, 4 * patch->evaluationNoise);
+                ASSERT_NEAR(slope, gp.dot(u), patch->gradientNoise) << "edge " << edge;
+                // The model's curvature along it, by a second difference
+                // (inside the box, where the bound holds).
+                const double step = 1e-2 * edge;
+                const Vec3 y = box.center() + 0.9 * (x - box.center());
+                const double second =
+                    (patch->value(y + step * u) - 2 * patch->value(y) + patch->value(y - step * u)) / (step * step);
+                ASSERT_LE(std::abs(second), patch->curvature + 8 * patch->evaluationNoise / (step * step))
                     << "edge " << edge;
                 ++checked;
             }
