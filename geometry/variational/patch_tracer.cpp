@@ -82,6 +82,16 @@ PatchTraceResult tracePatch(const VariationalPatch& patch, const VariationalFiel
         result.gradient = gradient;
         return result;
     };
+    // A sign change at an anchor at t: Newton from it, when the bound on
+    // f'' along the bracket [tCleared, t] puts its root within a thousandth
+    // of minStep of f's; NaN when not.
+    auto newtonFromAnchor = [&](double t, double curvature) {
+        const double slope = anchor.gradient.dot(direction), width = t - tCleared;
+        const double leastSlope = std::abs(slope) - curvature * width;
+        if (!(t == anchor.t && leastSlope > 0 && 0.5 * curvature * width * width <= 1e-3 * minStep * leastSlope))
+            return std::numeric_limits<double>::quiet_NaN();
+        return std::clamp(anchor.t - anchor.value / slope, tCleared, t);
+    };
     // A sign change after a forced step: the bracket [tCleared, t] has ends
     // of opposite signs; settle it with exact values.
     auto refineBracket = [&](double t) {
@@ -124,12 +134,31 @@ PatchTraceResult tracePatch(const VariationalPatch& patch, const VariationalFiel
             }
             if (anchor.made) anchor.certify(patch, t, model, speed, sign, margin);
         }
-        if (sign == 0) {
-            anchorAt(t, p);
+        // Uncertain without an anchor: make one, where the model puts the
+        // root if it lies ahead within the segment (the model is usually far
+        // better than its bound, so the anchor lands next to the hit and
+        // certifies the rest of the way), else here. With one, the point
+        // is within the anchor's drift of the surface: a forced step below.
+        // The model's root ahead within the segment, else t.
+        auto modelRoot = [&] { return model * modelSlope < 0 ? std::min(t - model / modelSlope, tEnd) : t; };
+        if (sign == 0 && !anchor.made) {
+            const double tAnchor = modelRoot();
+            anchorAt(tAnchor, origin + tAnchor * direction);
             continue;
         }
-        if (side == 0) side = sign;
-        else if (sign != side) {
+        if (sign == 0 && !atAnchor) {
+            // Too far from the anchor to be within resolution: anchor here.
+            const double away = t - anchor.t;
+            const double drift = 0.5 * errorCurvature * away * away + patch.evaluationNoise;
+            if (drift > minStep * std::abs(modelSlope + anchor.offsetSlope)) {
+                anchorAt(t, p);
+                continue;
+            }
+        }
+        if (sign != 0 && side == 0) side = sign;
+        else if (sign != 0 && sign != side) {
+            const double newton = newtonFromAnchor(t, modelCurvature + errorCurvature);
+            if (!std::isnan(newton)) return hitAt(newton, anchor.gradient);
             const double root = refineBracket(t);
             if (!std::isnan(root)) return hitAt(root, result.gradient);
             side = sign;
@@ -140,9 +169,9 @@ PatchTraceResult tracePatch(const VariationalPatch& patch, const VariationalFiel
         // error, or its drift from the anchor).
         double step = margin * stepScale;
         const double ownSlope = sign * modelSlope - slopeNoise;
-        if (std::abs(model) > patch.valueError && signOf(model) == sign)
+        if (sign != 0 && std::abs(model) > patch.valueError && signOf(model) == sign)
             step = std::max(step, parabolaReach(std::abs(model) - patch.valueError, ownSlope, 0.5 * modelCurvature));
-        if (anchor.made) {
+        if (sign != 0 && anchor.made) {
             const double away = t - anchor.t;
             const double a = sign * (model + anchor.offset + anchor.offsetSlope * away) - patch.evaluationNoise -
                              0.5 * errorCurvature * away * away;
@@ -162,7 +191,8 @@ PatchTraceResult tracePatch(const VariationalPatch& patch, const VariationalFiel
         // as the general sphere tracer's does. The anchor (made here if there
         // is none) tells the sign at its end.
         if (!anchor.made) {
-            anchorAt(t, p);
+            const double tAnchor = modelRoot();
+            anchorAt(tAnchor, origin + tAnchor * direction);
             continue;
         }
         const double tForced = std::min(t + minStep, tEnd);
