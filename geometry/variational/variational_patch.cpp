@@ -449,8 +449,14 @@ namespace {
 bool collectSurfaceModels(const VariationalField& field, const Box3& box, double tolerance, int depthLeft,
                           const VariationalPatch* parent, std::vector<VariationalPatch>& out) {
     if (parent) {
-        const double centre = parent->value(box.center());
-        const double spread = parent->lipschitz * box.halfDiagonal() + parent->valueError;
+        // Within the child, the parent's model moves from its value at the
+        // child's centre by at most its gradient there times the distance
+        // plus half its curvature times the distance squared.
+        Vec3 gradient;
+        const double centre = parent->valueAndGradient(box.center(), gradient), reach = box.halfDiagonal();
+        const double spread =
+            std::min(parent->lipschitz * reach, gradient.norm() * reach + 0.5 * parent->curvature * reach * reach) +
+            parent->valueError;
         if (std::abs(centre) > spread) return true;
     }
     auto patch = buildVariationalPatch(field, box);
