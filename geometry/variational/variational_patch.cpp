@@ -1,6 +1,7 @@
 #include "geometry/variational/variational_patch.h"
 
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <utility>
 
@@ -100,9 +101,10 @@ inline double radialDerivative(double x, double y, double z, double r, double i1
     }
 }
 
-template <int K>
-inline double power(double x) {
-    if constexpr (K == 0) return 1.0;
+template <int K, typename T>
+inline T power(T x) {
+    if constexpr (K == 0) return T{} + 1.0;
+    else if constexpr (K == 1) return x;
     else return x * power<K - 1>(x);
 }
 
@@ -147,17 +149,6 @@ inline double plainSum(const std::vector<double>& v) {
     return sum;
 }
 
-// sum_j weight_j dx_j^A dy_j^B dz_j^C
-template <int A, int B, int C>
-double moment(const std::vector<double>& weight, const Scratch& s) {
-    const double *w = weight.data(), *x = s.dx.data(), *y = s.dy.data(), *z = s.dz.data();
-    const size_t n = weight.size();
-    double sum = 0.0;
-#pragma omp simd reduction(+ : sum)
-    for (size_t j = 0; j < n; ++j) sum += w[j] * power<A>(x[j]) * power<B>(y[j]) * power<C>(z[j]);
-    return sum;
-}
-
 // The sums the Taylor coefficients need, named by the power of r that
 // weights them; each indexed by the monomial d^beta it multiplies.
 struct TermSums {
@@ -165,27 +156,77 @@ struct TermSums {
     std::array<double, VariationalPatch::kMonomials> byR{}, byInvR{}, byInvR3{}, byInvR5{};
 };
 
-template <size_t I>
-void accumulateMonomial(const Scratch& s, TermSums& out) {
-    constexpr int a = kExponents[I][0], b = kExponents[I][1], c = kExponents[I][2], degree = a + b + c;
-    if constexpr (degree == 0) {
-        out.byInvR[I] = plainSum(s.farInvR);
-    } else if constexpr (degree == 1) {
-        out.byR[I] = moment<a, b, c>(s.rWeight, s);
-        out.byInvR[I] = moment<a, b, c>(s.farInvR, s);
-    } else if constexpr (degree == 2) {
-        out.byInvR[I] = moment<a, b, c>(s.hessianWeight, s);
-        out.byInvR3[I] = moment<a, b, c>(s.farInvR3, s);
-    } else if constexpr (degree == 3) {
-        out.byInvR3[I] = moment<a, b, c>(s.farInvR3, s);
-    } else {
-        out.byInvR5[I] = moment<a, b, c>(s.farInvR5, s);
-    }
+// sum_j weight_j d_j^alpha for every monomial alpha in I..., in one pass
+// over the centres: per-monomial passes each reread the four arrays and
+// made the sums three quarters of a model's cost. Eight lanes at a time in
+// GNU vector types (AVX-512 where built for it), the rest one by one.
+using Lanes = double __attribute__((vector_size(64)));
+constexpr size_t kLanes = sizeof(Lanes) / sizeof(double);
+
+template <size_t... I, typename T>
+inline void monomialTerms(T* acc, T w, T x, T y, T z, std::index_sequence<I...>) {
+    size_t k = 0;
+    ((acc[k++] += w * power<kExponents[I][0]>(x) * power<kExponents[I][1]>(y) * power<kExponents[I][2]>(z)), ...);
 }
 
 template <size_t... I>
-void accumulateMonomials(const Scratch& s, TermSums& out, std::index_sequence<I...>) {
-    (accumulateMonomial<I>(s, out), ...);
+void moments(const std::vector<double>& weight, const Scratch& s, std::array<double, VariationalPatch::kMonomials>& out,
+             std::index_sequence<I...> monomials) {
+    constexpr size_t K = sizeof...(I);
+    const double *w = weight.data(), *x = s.dx.data(), *y = s.dy.data(), *z = s.dz.data();
+    const size_t n = weight.size();
+    Lanes acc[K] = {};
+    size_t j = 0;
+    for (; j + kLanes <= n; j += kLanes) {
+        Lanes lw, lx, ly, lz;
+        std::memcpy(&lw, w + j, sizeof(Lanes));
+        std::memcpy(&lx, x + j, sizeof(Lanes));
+        std::memcpy(&ly, y + j, sizeof(Lanes));
+        std::memcpy(&lz, z + j, sizeof(Lanes));
+        monomialTerms(acc, lw, lx, ly, lz, monomials);
+    }
+    double rest[K] = {};
+    for (; j < n; ++j) monomialTerms(rest, w[j], x[j], y[j], z[j], monomials);
+    size_t k = 0;
+    ((out[I] = [&] {
+         double sum = rest[k];
+         for (size_t lane = 0; lane < kLanes; ++lane) sum += acc[k][lane];
+         ++k;
+         return sum;
+     }()),
+     ...);
+}
+
+// The monomials of one degree, as indices into kExponents.
+template <int Degree>
+constexpr auto monomialsOfDegree() {
+    constexpr size_t count = (Degree + 1) * (Degree + 2) / 2;
+    std::array<size_t, count> indices{};
+    size_t k = 0;
+    for (size_t n = 0; n < kExponents.size(); ++n)
+        if (kExponents[n][0] + kExponents[n][1] + kExponents[n][2] == Degree) indices[k++] = n;
+    return indices;
+}
+
+template <int Degree, size_t... K>
+constexpr auto degreeSequence(std::index_sequence<K...>) {
+    constexpr auto indices = monomialsOfDegree<Degree>();
+    return std::index_sequence<indices[K]...>();
+}
+
+template <int Degree>
+constexpr auto degreeMonomials() {
+    return degreeSequence<Degree>(std::make_index_sequence<(Degree + 1) * (Degree + 2) / 2>());
+}
+
+void accumulateMonomials(const Scratch& s, TermSums& out) {
+    out.byInvR[0] = plainSum(s.farInvR);
+    moments(s.rWeight, s, out.byR, degreeMonomials<1>());
+    moments(s.farInvR, s, out.byInvR, degreeMonomials<1>());
+    moments(s.hessianWeight, s, out.byInvR, degreeMonomials<2>());
+    moments(s.farInvR3, s, out.byInvR3, degreeMonomials<2>());
+    moments(s.farInvR3, s, out.byInvR3, degreeMonomials<3>());
+    moments(s.farInvR5, s, out.byInvR5, degreeMonomials<4>());
 }
 
 // d^alpha of sum_k 3 r_k (b_k.d_k), alpha the monomial I: by Leibniz with
@@ -314,7 +355,7 @@ std::optional<VariationalPatch> buildVariationalPatch(const VariationalField& fi
     TermSums sums;
     sums.r3Sum = plainSum(scratch.r3Weight);
     sums.rSum = plainSum(scratch.rWeight);
-    accumulateMonomials(scratch, sums, std::make_index_sequence<M>());
+    accumulateMonomials(scratch, sums);
     const double remainderSum = plainSum(scratch.remainder), magnitudeSum = plainSum(scratch.magnitude);
     const double r3Sum = sums.r3Sum, rSum = sums.rSum;
     const auto &byR = sums.byR, &byInvR = sums.byInvR, &byInvR3 = sums.byInvR3, &byInvR5 = sums.byInvR5;
