@@ -113,15 +113,12 @@ inline T power(T x) {
 // the first.
 struct Scratch {
     std::vector<double> dx, dy, dz, r;
-    std::vector<double> r3Weight, rWeight;  // w r^3, w r (every term)
-    std::vector<double> hessianWeight;      // w / r (every term; 0 at r = 0)
+    std::vector<double> rWeight;        // w r (every term)
+    std::vector<double> hessianWeight;  // w / r (every term; 0 at r = 0)
     std::vector<double> farInvR, farInvR3, farInvR5;  // w / r^k, far terms only
-    std::vector<double> remainder, magnitude;          // |w| / (r - s)^2 (far), |w| (r + s)^3
 
     void resize(size_t n) {
-        for (auto* v : {&dx, &dy, &dz, &r, &r3Weight, &rWeight, &hessianWeight, &farInvR, &farInvR3, &farInvR5,
-                        &remainder, &magnitude})
-            v->resize(n);
+        for (auto* v : {&dx, &dy, &dz, &r, &rWeight, &hessianWeight, &farInvR, &farInvR3, &farInvR5}) v->resize(n);
     }
 };
 
@@ -152,7 +149,6 @@ inline double plainSum(const std::vector<double>& v) {
 // The sums the Taylor coefficients need, named by the power of r that
 // weights them; each indexed by the monomial d^beta it multiplies.
 struct TermSums {
-    double r3Sum = 0, rSum = 0;  // sum w r^3, sum w r
     std::array<double, VariationalPatch::kMonomials> byR{}, byInvR{}, byInvR3{}, byInvR5{};
 };
 
@@ -220,7 +216,6 @@ constexpr auto degreeMonomials() {
 }
 
 void accumulateMonomials(const Scratch& s, TermSums& out) {
-    out.byInvR[0] = plainSum(s.farInvR);
     moments(s.rWeight, s, out.byR, degreeMonomials<1>());
     moments(s.farInvR, s, out.byInvR, degreeMonomials<1>());
     moments(s.hessianWeight, s, out.byInvR, degreeMonomials<2>());
@@ -281,28 +276,33 @@ std::optional<VariationalPatch> buildVariationalPatch(const VariationalField& fi
     scratch.resize(n);
     const double* c = field.centers.empty() ? nullptr : field.centers[0].data();
     const double* w = field.weights.data();
+    // Sums that need no moment are taken in the same pass; one reciprocal
+    // serves every power of 1 / r.
+    double r3Sum = 0.0, rSum = 0.0, farInvRSum = 0.0, remainderSum = 0.0, magnitudeSum = 0.0;
     {
         Scratch& q = scratch;
-#pragma omp simd
+#pragma omp simd reduction(+ : r3Sum, rSum, farInvRSum, remainderSum, magnitudeSum)
         for (size_t j = 0; j < n; ++j) {
             const double dx = x0.x() - c[3 * j], dy = x0.y() - c[3 * j + 1], dz = x0.z() - c[3 * j + 2];
             const double r = std::sqrt(dx * dx + dy * dy + dz * dz);
             const bool far = r >= nearRadius;
-            const double wFar = far ? w[j] : 0.0, rFar = far ? r : 1.0;
-            const double inv = 1.0 / rFar;
+            const double wFar = far ? w[j] : 0.0;
+            const double inv = r > 0 ? 1.0 / r : 0.0, inv2 = inv * inv;
             q.dx[j] = dx;
             q.dy[j] = dy;
             q.dz[j] = dz;
             q.r[j] = r;
-            q.r3Weight[j] = w[j] * r * r * r;
+            r3Sum += w[j] * r * r * r;
             q.rWeight[j] = w[j] * r;
-            q.hessianWeight[j] = r > 0 ? w[j] / r : 0.0;
+            rSum += w[j] * r;
+            q.hessianWeight[j] = w[j] * inv;
             q.farInvR[j] = wFar * inv;
-            q.farInvR3[j] = wFar * inv * inv * inv;
-            q.farInvR5[j] = wFar * inv * inv * inv * inv * inv;
+            farInvRSum += wFar * inv;
+            q.farInvR3[j] = wFar * inv * inv2;
+            q.farInvR5[j] = wFar * inv * inv2 * inv2;
             const double gap = far ? r - s : 1.0;
-            q.remainder[j] = std::abs(wFar) / (gap * gap);
-            q.magnitude[j] = std::abs(w[j]) * (r + s) * (r + s) * (r + s);
+            remainderSum += std::abs(wFar) / (gap * gap);
+            magnitudeSum += std::abs(w[j]) * (r + s) * (r + s) * (r + s);
         }
     }
     for (size_t j = 0; j < n; ++j)
@@ -353,11 +353,8 @@ std::optional<VariationalPatch> buildVariationalPatch(const VariationalField& fi
 
     constexpr int M = VariationalPatch::kMonomials;
     TermSums sums;
-    sums.r3Sum = plainSum(scratch.r3Weight);
-    sums.rSum = plainSum(scratch.rWeight);
+    sums.byInvR[0] = farInvRSum;
     accumulateMonomials(scratch, sums);
-    const double remainderSum = plainSum(scratch.remainder), magnitudeSum = plainSum(scratch.magnitude);
-    const double r3Sum = sums.r3Sum, rSum = sums.rSum;
     const auto &byR = sums.byR, &byInvR = sums.byInvR, &byInvR3 = sums.byInvR3, &byInvR5 = sums.byInvR5;
 
     // Partial derivatives of sum w |x - c|^3 at x0 from those sums:
