@@ -9,17 +9,18 @@ namespace {
 
 class VariationalCellTracer final : public CellTracer {
 public:
-    VariationalCellTracer(std::vector<VariationalPatch> models, std::shared_ptr<const VariationalField> field,
-                          const LeafPlacement& placement)
-        : models_(std::move(models)), field_(std::move(field)), placement_(placement) {}
+    VariationalCellTracer(std::vector<VariationalPatch> models, std::vector<Box3> parts,
+                          std::shared_ptr<const VariationalField> field, const LeafPlacement& placement)
+        : models_(std::move(models)), parts_(std::move(parts)), field_(std::move(field)), placement_(placement) {}
 
     CellTraceResult trace(uint32_t part, const Vec3& origin, const Vec3& direction, double t0, double t1,
                           const TraceSettings& settings) const override {
         const VariationalPatch& model = models_[part];
         Vec3 o, d;
         rayInLeafFrame(placement_, origin, direction, o, d);
-        // The model holds inside its own box only.
-        if (!placement_.identity && !clipRayToBox(model.box, o, d, t0, t1)) return {};
+        // The model holds inside its own box only, the surface lies in its
+        // part (the world box Embree tests bounds it for identity placements).
+        if (!placement_.identity && !clipRayToBox(parts_[part], o, d, t0, t1)) return {};
         const PatchTraceResult p = tracePatch(model, *field_, o, d, t0, t1, settings.epsilon / direction.norm());
         CellTraceResult r;
         r.steps = p.steps + p.exactEvaluations;
@@ -39,6 +40,7 @@ public:
 
 private:
     std::vector<VariationalPatch> models_;
+    std::vector<Box3> parts_;  ///< each model's box shrunk to where it may hold surface (leaf frame)
     std::shared_ptr<const VariationalField> field_;
     LeafPlacement placement_;
 };
@@ -56,11 +58,28 @@ std::optional<CellAcceleration> VariationalCellAccelerator::accelerate(const Fie
     std::optional<std::vector<VariationalPatch>> models =
         buildSurfaceModels(*variational->field, leafBox, relativeTolerance_ * surfaceDiagonal / placement.valueScale);
     if (!models) return std::nullopt;
+    // Each model's box shrunk to the sub-boxes (two bisections deep) whose
+    // model range, from the value and gradient at their centre and the
+    // model's curvature, may hold zero: rays that pass the surface by are
+    // never offered the rest.
+    std::vector<VariationalPatch> kept;
+    std::vector<Box3> parts;
+    for (VariationalPatch& model : *models) {
+        const Box3 part = shrunkToSurface(model.box, [&model](const Box3& b) {
+            Vec3 gradient;
+            const double centre = model.valueAndGradient(b.center(), gradient), reach = b.halfDiagonal();
+            const double spread =
+                std::min(model.lipschitz * reach, gradient.norm() * reach + 0.5 * model.curvature * reach * reach) +
+                model.valueError;
+            return Interval{centre - spread, centre + spread};
+        });
+        if (part.isEmpty()) continue;
+        parts.push_back(part);
+        kept.push_back(std::move(model));
+    }
     CellAcceleration a;
-    std::vector<Box3> boxes;
-    for (const VariationalPatch& model : *models) boxes.push_back(model.box);
-    a.parts = worldPartBoxes(placement, boxes, box);
-    a.tracer = std::make_unique<VariationalCellTracer>(std::move(*models), variational->field, placement);
+    a.parts = worldPartBoxes(placement, parts, box);
+    a.tracer = std::make_unique<VariationalCellTracer>(std::move(kept), std::move(parts), variational->field, placement);
     return a;
 }
 
