@@ -25,12 +25,68 @@ struct MonomialTable {
     int index[5][5][5]{};
     std::array<double, VariationalPatch::kMonomials> inverseFactorial{};  ///< 1 / (a! b! c!)
 
+    // Per monomial n (of degree k, axes sorted): the lower-order sums its
+    // Taylor coefficient needs (see the derivative formulas in
+    // buildVariationalPatch), so that building a model looks nothing up.
+    struct Derivative {
+        int degree = 0, axis = 0;  ///< axis: the one of a first-degree monomial
+        double delta = 0.0;        ///< delta_ij of a second-degree one
+        std::array<int, 6> lower{};
+        std::array<double, 6> lowerDelta{};  ///< third: 3 (delta, index); fourth: 6
+        double pairs = 0.0;                  ///< fourth degree: the three delta products
+    };
+    std::array<Derivative, VariationalPatch::kMonomials> derivative{};
+    // d/dx_axis and d2/dx_i dx_j of each monomial: a multiplier times a
+    // monomial of lower degree.
+    struct Reduced {
+        int monomial, lower, axis, pair;  ///< pair: 0 xx, 1 xy, 2 xz, 3 yy, 4 yz, 5 zz
+        double multiplier;
+    };
+    std::vector<Reduced> firstPartials, secondPartials;
+
     MonomialTable() {
         const double factorial[5] = {1, 1, 2, 6, 24};
         for (int n = 0; n < VariationalPatch::kMonomials; ++n) {
             const auto& e = exponents[n];
             index[e[0]][e[1]][e[2]] = n;
             inverseFactorial[n] = 1.0 / (factorial[e[0]] * factorial[e[1]] * factorial[e[2]]);
+        }
+        auto delta = [](int i, int j) { return i == j ? 1.0 : 0.0; };
+        for (int n = 0; n < VariationalPatch::kMonomials; ++n) {
+            const auto& e = exponents[n];
+            int axes[4], k = 0;
+            for (int axis = 0; axis < 3; ++axis)
+                for (int c = 0; c < e[axis]; ++c) axes[k++] = axis;
+            Derivative& d = derivative[n];
+            d.degree = k;
+            if (k == 1) d.axis = axes[0];
+            if (k == 2) d.delta = delta(axes[0], axes[1]);
+            if (k == 3) {
+                const int i = axes[0], j = axes[1], l = axes[2];
+                d.lower = {of(l), of(j), of(i), 0, 0, 0};
+                d.lowerDelta = {delta(i, j), delta(i, l), delta(j, l), 0, 0, 0};
+            }
+            if (k == 4) {
+                const int i = axes[0], j = axes[1], l = axes[2], m = axes[3];
+                d.pairs = delta(i, j) * delta(l, m) + delta(i, l) * delta(j, m) + delta(i, m) * delta(j, l);
+                d.lower = {of(l, m), of(j, m), of(j, l), of(i, m), of(i, l), of(i, j)};
+                d.lowerDelta = {delta(i, j), delta(i, l), delta(i, m), delta(j, l), delta(j, m), delta(l, m)};
+            }
+            for (int axis = 0; axis < 3; ++axis) {
+                if (e[axis] == 0) continue;
+                int lower[3] = {e[0], e[1], e[2]};
+                --lower[axis];
+                firstPartials.push_back({n, index[lower[0]][lower[1]][lower[2]], axis, 0, double(e[axis])});
+            }
+            int pair = 0;
+            for (int i = 0; i < 3; ++i)
+                for (int j = i; j < 3; ++j, ++pair) {
+                    int lower[3] = {e[0], e[1], e[2]};
+                    const double m = lower[i]--;
+                    const double m2 = m * lower[j]--;
+                    if (m2 == 0 || lower[i] < 0 || lower[j] < 0) continue;
+                    secondPartials.push_back({n, index[lower[0]][lower[1]][lower[2]], i, pair, m2});
+                }
         }
     }
     // The monomial of a multiset of axes, e.g. {0, 0, 2} -> x^2 z.
@@ -363,34 +419,21 @@ std::optional<VariationalPatch> buildVariationalPatch(const VariationalField& fi
     //   d_ijk    = 3 w (delta_ij d_k + delta_ik d_j + delta_jk d_i) / r - 3 w d_i d_j d_k / r^3
     //   d_ijkl   = 3 w (dd + dd + dd) / r - 3 w (delta d d, six ways) / r^3 + 9 w d_i d_j d_k d_l / r^5
     for (int n = 0; n < M; ++n) {
-        const auto& e = table.exponents[n];
-        int axes[4], k = 0;
-        for (int axis = 0; axis < 3; ++axis)
-            for (int c = 0; c < e[axis]; ++c) axes[k++] = axis;
+        const MonomialTable::Derivative& d = table.derivative[n];
         double derivative = 0.0;
-        switch (k) {
+        switch (d.degree) {
             case 0: derivative = r3Sum + field.constant + field.linear.dot(x0); break;
-            case 1: derivative = 3.0 * byR[n] + field.linear[axes[0]]; break;
-            case 2: {
-                const int i = axes[0], j = axes[1];
-                derivative = 3.0 * (rSum * delta(i, j) + byInvR[n]);
-                break;
-            }
-            case 3: {
-                const int i = axes[0], j = axes[1], l = axes[2];
-                derivative = 3.0 * (delta(i, j) * byInvR[table.of(l)] + delta(i, l) * byInvR[table.of(j)] +
-                                    delta(j, l) * byInvR[table.of(i)]) -
+            case 1: derivative = 3.0 * byR[n] + field.linear[d.axis]; break;
+            case 2: derivative = 3.0 * (rSum * d.delta + byInvR[n]); break;
+            case 3:
+                derivative = 3.0 * (d.lowerDelta[0] * byInvR[d.lower[0]] + d.lowerDelta[1] * byInvR[d.lower[1]] +
+                                    d.lowerDelta[2] * byInvR[d.lower[2]]) -
                              3.0 * byInvR3[n];
                 break;
-            }
             case 4: {
-                const int i = axes[0], j = axes[1], l = axes[2], m = axes[3];
-                const double pairs = delta(i, j) * delta(l, m) + delta(i, l) * delta(j, m) + delta(i, m) * delta(j, l);
-                const double mixed =
-                    delta(i, j) * byInvR3[table.of(l, m)] + delta(i, l) * byInvR3[table.of(j, m)] +
-                    delta(i, m) * byInvR3[table.of(j, l)] + delta(j, l) * byInvR3[table.of(i, m)] +
-                    delta(j, m) * byInvR3[table.of(i, l)] + delta(l, m) * byInvR3[table.of(i, j)];
-                derivative = 3.0 * byInvR[0] * pairs - 3.0 * mixed + 9.0 * byInvR5[n];
+                double mixed = 0.0;
+                for (int q = 0; q < 6; ++q) mixed += d.lowerDelta[q] * byInvR3[d.lower[q]];
+                derivative = 3.0 * byInvR[0] * d.pairs - 3.0 * mixed + 9.0 * byInvR5[n];
                 break;
             }
         }
@@ -413,16 +456,14 @@ std::optional<VariationalPatch> buildVariationalPatch(const VariationalField& fi
     // half extents, then the error and the near terms.
     const Vec3 half = 0.5 * box.extent();
     const Powers ph(half);
-    double axisBound[3] = {0, 0, 0};
-    for (int n = 1; n < M; ++n) {
+    std::array<double, M> halfPower;  // each monomial at the box's half extents
+    for (int n = 0; n < M; ++n) {
         const auto& e = table.exponents[n];
-        for (int axis = 0; axis < 3; ++axis) {
-            if (e[axis] == 0) continue;
-            double m = e[axis];
-            for (int other = 0; other < 3; ++other) m *= ph.p[other][e[other] - (other == axis ? 1 : 0)];
-            axisBound[axis] += std::abs(patch.coefficients[n]) * m;
-        }
+        halfPower[n] = ph.p[0][e[0]] * ph.p[1][e[1]] * ph.p[2][e[2]];
     }
+    double axisBound[3] = {0, 0, 0};
+    for (const MonomialTable::Reduced& r : table.firstPartials)
+        axisBound[r.axis] += std::abs(patch.coefficients[r.monomial]) * r.multiplier * halfPower[r.lower];
     // A near term's correction w (|x - c|^3 - its quadratic Taylor
     // polynomial) is at most |w| |h|^3, its gradient 3 |w| |h|^2 (|D^3 r^3| <= 6).
     // A near Hermite term's correction (psi less its first-order Taylor
@@ -436,31 +477,17 @@ std::optional<VariationalPatch> buildVariationalPatch(const VariationalField& fi
     // monomial by monomial, the matrix of bounds' Frobenius norm bounding
     // the operator norm; a near r^3 term's correction changes its Hessian
     // by at most 6 |w| |h| (|D^3 r^3| <= 6), a Hermite one's is at most 9 |b|.
-    double secondBound[3][3] = {};
-    for (int n = 1; n < M; ++n) {
-        const auto& e = table.exponents[n];
-        for (int i = 0; i < 3; ++i)
-            for (int j = i; j < 3; ++j) {
-                int power[3] = {e[0], e[1], e[2]};
-                double m = power[i]--;
-                if (m == 0) continue;
-                m *= power[j]--;
-                if (m == 0) continue;
-                if (power[0] < 0 || power[1] < 0 || power[2] < 0) continue;
-                secondBound[i][j] += std::abs(patch.coefficients[n]) * m * ph.p[0][power[0]] * ph.p[1][power[1]] * ph.p[2][power[2]];
-            }
-    }
+    double secondBound[6] = {};  // xx, xy, xz, yy, yz, zz
+    for (const MonomialTable::Reduced& r : table.secondPartials)
+        secondBound[r.pair] += std::abs(patch.coefficients[r.monomial]) * r.multiplier * halfPower[r.lower];
     double frobenius = 0.0;
-    for (int i = 0; i < 3; ++i)
-        for (int j = i; j < 3; ++j) frobenius += (i == j ? 1.0 : 2.0) * secondBound[i][j] * secondBound[i][j];
+    for (int pair = 0; pair < 6; ++pair)
+        frobenius += (pair == 0 || pair == 3 || pair == 5 ? 1.0 : 2.0) * secondBound[pair] * secondBound[pair];
     patch.curvature = std::sqrt(frobenius) + 6.0 * nearWeight * s + 9.0 * nearHermiteWeight;
     patch.lipschitz =
         polynomialGradient + patch.gradientError + 3.0 * nearWeight * s * s + 9.0 * nearHermiteWeight * s;
     double polynomialSpread = 0.0;
-    for (int m = 1; m < M; ++m) {
-        const auto& e = table.exponents[m];
-        polynomialSpread += std::abs(patch.coefficients[m]) * ph.p[0][e[0]] * ph.p[1][e[1]] * ph.p[2][e[2]];
-    }
+    for (int m = 1; m < M; ++m) polynomialSpread += std::abs(patch.coefficients[m]) * halfPower[m];
     // Evaluating the model rounds each of its terms; a near term's two
     // parts are each at most |w| (r0 + s)^3.
     double nearMagnitude = 0.0;
