@@ -134,23 +134,23 @@ PatchTraceResult tracePatch(const VariationalPatch& patch, const VariationalFiel
             }
             if (anchor.made) anchor.certify(patch, t, model, speed, sign, margin);
         }
-        // Uncertain without an anchor: make one, where the model puts the
-        // root if it lies ahead within the segment (the model is usually far
-        // better than its bound, so the anchor lands next to the hit and
-        // certifies the rest of the way), else here. With one, the point
-        // is within the anchor's drift of the surface: a forced step below.
-        // The model's root ahead within the segment, else t.
+        // Uncertain without an anchor: make one where the model puts the
+        // root, if that lies ahead within the segment (the model is usually
+        // far better than its bound, so the anchor lands next to the hit
+        // and certifies the rest of the way), else here.
         auto modelRoot = [&] { return model * modelSlope < 0 ? std::min(t - model / modelSlope, tEnd) : t; };
         if (sign == 0 && !anchor.made) {
             const double tAnchor = modelRoot();
             anchorAt(tAnchor, origin + tAnchor * direction);
             continue;
         }
+        // Uncertain with one: within the anchor's drift of the surface, and
+        // if that is within resolution, a forced step below; else (or while
+        // no sign is known yet) an anchor here.
         if (sign == 0 && !atAnchor) {
-            // Too far from the anchor to be within resolution: anchor here.
             const double away = t - anchor.t;
             const double drift = 0.5 * errorCurvature * away * away + patch.evaluationNoise;
-            if (drift > minStep * std::abs(modelSlope + anchor.offsetSlope)) {
+            if (side == 0 || drift > minStep * std::abs(modelSlope + anchor.offsetSlope)) {
                 anchorAt(t, p);
                 continue;
             }

@@ -219,6 +219,16 @@ TEST(VariationalPatchTracing, HermiteHandAgreesWithExactMarching) {
     expectSameHits(program, 150);
 }
 
+TEST(VariationalPatchTracing, HandAgreesWithExactMarchingOnGrazingRays) {
+    // Rays along the surface, a hair off it: where the parabola steps, the
+    // anchors ahead and the forced steps are tested hardest.
+    for (const VariationalField* f : {&handField(), &hermiteHandField()}) {
+        FieldProgram program;
+        program.addLeaf(VariationalLeafField{std::make_shared<VariationalField>(*f)});
+        isotrace::testing::expectSameHitsOnGrazingRays(program, 120, 20);
+    }
+}
+
 TEST(VariationalPatchTracing, TransformedHandAgreesWithExactMarching) {
     // Twice the size, turned about a slanted axis: rays are traced in the
     // leaf's frame, gradients brought back.
