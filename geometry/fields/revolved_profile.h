@@ -32,7 +32,7 @@ struct RevolvedProfileField {
     }
     double valueAndGradient(const Vec3& p, Vec3& gradient) const {
         const Vec3 d = p - center;
-        const double rho = std::hypot(d.x(), d.z());
+        const double rho = std::sqrt(d.x() * d.x() + d.z() * d.z());
         const Vec2 q(rho, d.y());
         double best = std::numeric_limits<double>::infinity();
         // The signed distance's gradient: beside an edge its outward normal,
