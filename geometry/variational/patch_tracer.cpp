@@ -69,12 +69,12 @@ PatchTraceResult tracePatch(const VariationalPatch& patch, const VariationalFiel
     };
     auto anchorAt = [&](double t, const Vec3& p) {
         anchor.value = exactAt(t, &anchor.gradient);
-        Vec3 modelGradient;
-        const double model = patch.valueAndGradient(p, modelGradient);
+        double modelSlope;
+        const double model = patch.valueAndSlope(p, direction, modelSlope);
         anchor.made = true;
         anchor.t = t;
         anchor.offset = anchor.value - model;
-        anchor.offsetSlope = (anchor.gradient - modelGradient).dot(direction);
+        anchor.offsetSlope = anchor.gradient.dot(direction) - modelSlope;
     };
     auto hitAt = [&](double t, const Vec3& gradient) {
         result.hit = true;
