@@ -123,13 +123,16 @@ constexpr double kFifthDerivative = 12.88;
 // line and d (the first from D^5 r, the second from 5 (b.u) D^4 r).
 constexpr double kHermiteFifthDerivative = 3.0 * (9.882 + 15.0);
 
-inline constexpr double pick(int axis, double x, double y, double z) { return axis == 0 ? x : axis == 1 ? y : z; }
+template <typename T>
+inline T pick(int axis, T x, T y, T z) {
+    return axis == 0 ? x : axis == 1 ? y : z;
+}
 
 // The partial derivative d^(A,B,C) of r = |d| at d, given 1/r, 1/r^3, 1/r^5
 // and 1/r^7 (by induction from d_i r = d_i / r; every Kronecker delta is a
 // compile-time constant).
-template <int A, int B, int C>
-inline double radialDerivative(double x, double y, double z, double r, double i1, double i3, double i5, double i7) {
+template <int A, int B, int C, typename T>
+inline T radialDerivative(T x, T y, T z, T r, T i1, T i3, T i5, T i7) {
     constexpr int n = A + B + C;
     static constexpr std::array<int, 4> ax = [] {
         std::array<int, 4> a{0, 0, 0, 0};
@@ -151,7 +154,7 @@ inline double radialDerivative(double x, double y, double z, double r, double i1
         return -(delta(0, 1) * d(2) + delta(0, 2) * d(1) + delta(1, 2) * d(0)) * i3 + 3.0 * d(0) * d(1) * d(2) * i5;
     } else {
         const double pairs = delta(0, 1) * delta(2, 3) + delta(0, 2) * delta(1, 3) + delta(0, 3) * delta(1, 2);
-        const double mixed = delta(0, 1) * d(2) * d(3) + delta(0, 2) * d(1) * d(3) + delta(0, 3) * d(1) * d(2) +
+        const T mixed = delta(0, 1) * d(2) * d(3) + delta(0, 2) * d(1) * d(3) + delta(0, 3) * d(1) * d(2) +
                              delta(1, 2) * d(0) * d(3) + delta(1, 3) * d(0) * d(2) + delta(2, 3) * d(0) * d(1);
         return -pairs * i3 + 3.0 * mixed * i5 - 15.0 * d(0) * d(1) * d(2) * d(3) * i7;
     }
@@ -280,35 +283,71 @@ void accumulateMonomials(const Scratch& s, TermSums& out) {
     moments(s.farInvR5, s, out.byInvR5, degreeMonomials<4>());
 }
 
-// d^alpha of sum_k 3 r_k (b_k.d_k), alpha the monomial I: by Leibniz with
-// s = b.d linear, 3 (s d^alpha r + sum_i alpha_i b_i d^(alpha - e_i) r).
+// d^alpha of 3 r (b.d) for the monomial alpha = I: by Leibniz with s = b.d
+// linear, 3 (s d^alpha r + sum_i alpha_i b_i d^(alpha - e_i) r); the 3 is
+// applied to the sums.
+template <size_t I, typename T>
+inline T hermiteTerm(T x, T y, T z, T r, T i1, T i3, T i5, T i7, T s, T bx, T by, T bz) {
+    constexpr int a = kExponents[I][0], b = kExponents[I][1], c = kExponents[I][2];
+    T term = s * radialDerivative<a, b, c>(x, y, z, r, i1, i3, i5, i7);
+    if constexpr (a > 0) term += a * bx * radialDerivative<a - 1, b, c>(x, y, z, r, i1, i3, i5, i7);
+    if constexpr (b > 0) term += b * by * radialDerivative<a, b - 1, c>(x, y, z, r, i1, i3, i5, i7);
+    if constexpr (c > 0) term += c * bz * radialDerivative<a, b, c - 1>(x, y, z, r, i1, i3, i5, i7);
+    return term;
+}
+
+// The Hermite terms' derivatives for every monomial in I... (all of one
+// degree) in one pass over the terms, as `moments` does for the r^3 ones.
 // Orders 0 and 1 sum every term, higher orders the far ones.
-template <size_t I>
-double hermiteDerivative(const HermiteScratch& q) {
-    constexpr int a = kExponents[I][0], b = kExponents[I][1], c = kExponents[I][2], degree = a + b + c;
-    const bool all = degree <= 1;
+template <size_t... I>
+void hermiteDerivatives(const HermiteScratch& q, std::array<double, VariationalPatch::kMonomials>& out,
+                        std::index_sequence<I...>) {
+    constexpr size_t K = sizeof...(I);
+    constexpr size_t first[] = {I...};
+    constexpr int degree = kExponents[first[0]][0] + kExponents[first[0]][1] + kExponents[first[0]][2];
+    constexpr bool all = degree <= 1;
     const double *x = q.dx.data(), *y = q.dy.data(), *z = q.dz.data();
     const double *r = all ? q.r.data() : q.farR.data(), *i1 = all ? q.inverseR.data() : q.farInvR.data();
     const double *i3 = q.farInvR3.data(), *i5 = q.farInvR5.data(), *i7 = q.farInvR7.data();
     const double *sv = all ? q.s.data() : q.farS.data(), *bx = all ? q.bx.data() : q.farBx.data(),
                  *by = all ? q.by.data() : q.farBy.data(), *bz = all ? q.bz.data() : q.farBz.data();
     const size_t n = q.dx.size();
-    double sum = 0.0;
-#pragma omp simd reduction(+ : sum)
-    for (size_t j = 0; j < n; ++j) {
-        double term = sv[j] * radialDerivative<a, b, c>(x[j], y[j], z[j], r[j], i1[j], i3[j], i5[j], i7[j]);
-        if constexpr (a > 0) term += a * bx[j] * radialDerivative<a - 1, b, c>(x[j], y[j], z[j], r[j], i1[j], i3[j], i5[j], i7[j]);
-        if constexpr (b > 0) term += b * by[j] * radialDerivative<a, b - 1, c>(x[j], y[j], z[j], r[j], i1[j], i3[j], i5[j], i7[j]);
-        if constexpr (c > 0) term += c * bz[j] * radialDerivative<a, b, c - 1>(x[j], y[j], z[j], r[j], i1[j], i3[j], i5[j], i7[j]);
-        sum += term;
+    Lanes acc[K] = {};
+    auto load = [](const double* p) {
+        Lanes v;
+        std::memcpy(&v, p, sizeof(Lanes));
+        return v;
+    };
+    size_t j = 0;
+    for (; j + kLanes <= n; j += kLanes) {
+        const Lanes lx = load(x + j), ly = load(y + j), lz = load(z + j), lr = load(r + j), l1 = load(i1 + j),
+                    l3 = load(i3 + j), l5 = load(i5 + j), l7 = load(i7 + j), ls = load(sv + j), lbx = load(bx + j),
+                    lby = load(by + j), lbz = load(bz + j);
+        size_t k = 0;
+        ((acc[k++] += hermiteTerm<I>(lx, ly, lz, lr, l1, l3, l5, l7, ls, lbx, lby, lbz)), ...);
     }
-    return 3.0 * sum;
+    double rest[K] = {};
+    for (; j < n; ++j) {
+        size_t k = 0;
+        ((rest[k++] += hermiteTerm<I>(x[j], y[j], z[j], r[j], i1[j], i3[j], i5[j], i7[j], sv[j], bx[j], by[j], bz[j])),
+         ...);
+    }
+    size_t k = 0;
+    ((out[I] = [&] {
+         double sum = rest[k];
+         for (size_t lane = 0; lane < kLanes; ++lane) sum += acc[k][lane];
+         ++k;
+         return 3.0 * sum;
+     }()),
+     ...);
 }
 
-template <size_t... I>
-void accumulateHermiteMonomials(const HermiteScratch& q, std::array<double, VariationalPatch::kMonomials>& out,
-                                std::index_sequence<I...>) {
-    ((out[I] = hermiteDerivative<I>(q)), ...);
+void accumulateHermiteMonomials(const HermiteScratch& q, std::array<double, VariationalPatch::kMonomials>& out) {
+    hermiteDerivatives(q, out, degreeMonomials<0>());
+    hermiteDerivatives(q, out, degreeMonomials<1>());
+    hermiteDerivatives(q, out, degreeMonomials<2>());
+    hermiteDerivatives(q, out, degreeMonomials<3>());
+    hermiteDerivatives(q, out, degreeMonomials<4>());
 }
 
 }  // namespace
@@ -402,7 +441,7 @@ std::optional<VariationalPatch> buildVariationalPatch(const VariationalField& fi
             patch.nearHermite.push_back({field.gradientCenters[j], b, 3.0 * r * sv,
                                          r > 0 ? Vec3(3.0 * (sv / r * d + r * b)) : Vec3::Zero()});
         }
-        accumulateHermiteMonomials(q, hermiteSums, std::make_index_sequence<VariationalPatch::kMonomials>());
+        accumulateHermiteMonomials(q, hermiteSums);
         hermiteRemainderSum = plainSum(q.remainder);
         hermiteMagnitudeSum = plainSum(q.magnitude);
     }
