@@ -168,7 +168,7 @@ Image sectionImage(const geometry::FieldProgram& field, const Box3& frame, int a
             Vec3 color = f < 0 ? Vec3(0.6, 0.75, 1.0) * (1 - t) + Vec3(0.01, 0.04, 0.35) * t
                                : Vec3(1.0, 0.8, 0.55) * (1 - t) + Vec3(0.45, 0.08, 0.0) * t;
             bool surface = false, contour = false;
-            for (const auto [dx, dy] : {std::pair{1, 0}, std::pair{0, 1}}) {
+            for (const auto& [dx, dy] : {std::pair{1, 0}, std::pair{0, 1}}) {
                 if (x + dx >= width || y + dy >= height) continue;
                 const double g = values[size_t(y + dy) * width + x + dx];
                 surface |= (f < 0) != (g < 0);
