@@ -59,20 +59,12 @@ std::optional<CellAcceleration> VariationalCellAccelerator::accelerate(const Fie
         buildSurfaceModels(*variational->field, leafBox, relativeTolerance_ * surfaceDiagonal / placement.valueScale);
     if (!models) return std::nullopt;
     // Each model's box shrunk to the sub-boxes (two bisections deep) whose
-    // model range, from the value and gradient at their centre and the
-    // model's curvature, may hold zero: rays that pass the surface by are
-    // never offered the rest.
+    // range by the model (VariationalPatch::rangeOver) may hold zero: rays
+    // that pass the surface by are never offered the rest.
     std::vector<VariationalPatch> kept;
     std::vector<Box3> parts;
     for (VariationalPatch& model : *models) {
-        const Box3 part = shrunkToSurface(model.box, [&model](const Box3& b) {
-            Vec3 gradient;
-            const double centre = model.valueAndGradient(b.center(), gradient), reach = b.halfDiagonal();
-            const double spread =
-                std::min(model.lipschitz * reach, gradient.norm() * reach + 0.5 * model.curvature * reach * reach) +
-                model.valueError;
-            return Interval{centre - spread, centre + spread};
-        });
+        const Box3 part = shrunkToSurface(model.box, [&model](const Box3& b) { return model.rangeOver(b); });
         if (part.isEmpty()) continue;
         parts.push_back(part);
         kept.push_back(std::move(model));

@@ -553,15 +553,7 @@ namespace {
 bool collectSurfaceModels(const VariationalField& field, const Box3& box, double tolerance, int depthLeft,
                           const VariationalPatch* parent, std::vector<VariationalPatch>& out) {
     if (parent) {
-        // Within the child, the parent's model moves from its value at the
-        // child's centre by at most its gradient there times the distance
-        // plus half its curvature times the distance squared.
-        Vec3 gradient;
-        const double centre = parent->valueAndGradient(box.center(), gradient), reach = box.halfDiagonal();
-        const double spread =
-            std::min(parent->lipschitz * reach, gradient.norm() * reach + 0.5 * parent->curvature * reach * reach) +
-            parent->valueError;
-        if (std::abs(centre) > spread) return true;
+        if (!parent->rangeOver(box).containsZero()) return true;
     }
     auto patch = buildVariationalPatch(field, box);
     if (!patch) return false;
@@ -657,6 +649,14 @@ inline double polynomialAndSlope(const std::array<double, VariationalPatch::kMon
 }
 
 }  // namespace
+
+Interval VariationalPatch::rangeOver(const Box3& part) const {
+    Vec3 gradient;
+    const double centre = valueAndGradient(part.center(), gradient), reach = part.halfDiagonal();
+    const double spread =
+        std::min(lipschitz * reach, gradient.norm() * reach + 0.5 * curvature * reach * reach) + valueError;
+    return {centre - spread, centre + spread};
+}
 
 double VariationalPatch::valueAndSlope(const Vec3& x, const Vec3& direction, double& slope) const {
     const Vec3 h = x - expansionPoint;

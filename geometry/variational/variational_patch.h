@@ -88,6 +88,11 @@ struct VariationalPatch {
     /// The model (polynomial plus near terms) and its gradient.
     double value(const Vec3& x) const;
     double valueAndGradient(const Vec3& x, Vec3& gradient) const;
+    /// f's range over a box inside this one: the model at its centre, moved
+    /// by at most its gradient there times the reach plus half its curvature
+    /// times the reach squared (or the gradient bound times the reach), and
+    /// the value error.
+    Interval rangeOver(const Box3& part) const;
     /// The model and its derivative along `direction` (grad . direction).
     double valueAndSlope(const Vec3& x, const Vec3& direction, double& slope) const;
 };
