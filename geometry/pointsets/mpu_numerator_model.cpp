@@ -82,6 +82,42 @@ double weightThirdBound(const Interval& distance, double R) {
     return bound / (R * R * R) * (1 + 1e-12);
 }
 
+// The Taylor terms of N at a model's centre, summed in locals (in
+// registers, not through the model's memory: a fit adds dozens).
+struct TaylorSums {
+    double value = 0.0;
+    double gradient[3] = {0.0, 0.0, 0.0};
+    double hessian[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};  ///< xx xy xz yy yz zz
+
+    // Adds w Q's value, gradient and Hessian at the centre, r from the
+    // ball's centre (inside it): the Hessian is
+    // Q Hw + dw gq^T + gq dw^T + w Hq, with Hw = 6 sigma ds ds^T - 6 sigma^2 / R^2 I
+    // and Hq = 2 A (A symmetric).
+    void add(const MpuQuadric& q, double qc, const Vec3& gq, const Vec3& r, double R2) {
+        const double sigma = 1.0 - r.squaredNorm() / R2, w = sigma * sigma * sigma;
+        const double ds[3] = {2.0 / R2 * r.x(), 2.0 / R2 * r.y(), 2.0 / R2 * r.z()};
+        const double dwScale = -3.0 * sigma * sigma;
+        const double dw[3] = {dwScale * ds[0], dwScale * ds[1], dwScale * ds[2]};
+        const double g[3] = {gq.x(), gq.y(), gq.z()};
+        const double outer = 6.0 * sigma * qc, diagonal = 6.0 * sigma * sigma * qc / R2;
+        value += w * qc;
+        for (int i = 0; i < 3; ++i) gradient[i] += qc * dw[i] + w * g[i];
+        int k = 0;
+        for (int i = 0; i < 3; ++i)
+            for (int j = i; j < 3; ++j, ++k)
+                hessian[k] += outer * ds[i] * ds[j] + dw[i] * g[j] + g[i] * dw[j] + 2.0 * w * q.A(i, j) -
+                              (i == j ? diagonal : 0.0);
+    }
+
+    void store(MpuNumeratorModel& m) const {
+        m.value += value;
+        m.gradient += Vec3(gradient[0], gradient[1], gradient[2]);
+        int k = 0;
+        for (int i = 0; i < 3; ++i)
+            for (int j = i; j < 3; ++j, ++k) m.hessian(i, j) = m.hessian(j, i) = hessian[k];
+    }
+};
+
 }  // namespace
 
 Interval quadraticRange(double value, const Vec3& gradient, const Mat3& A, const Vec3& half) {
@@ -99,68 +135,115 @@ Interval quadraticRange(double value, const Vec3& gradient, const Mat3& A, const
     return {lo, hi};
 }
 
+namespace {
+
+// The error sums of a model: M3 (the bound on N's third directional
+// derivatives over the box), split into the single-piece locals' share
+// (which holds in any box inside, see mpuNumeratorModelWithin) and the sharp
+// ones'; the creases' own errors; and the size of the sums, for rounding.
+struct ErrorSums {
+    double singleThird = 0.0, sharpThird = 0.0, scale = 0.0, creaseValue = 0.0, creaseSlope = 0.0;
+};
+
+// One local's share of the model of N over the box c +- half: its Taylor
+// terms at c and its bounds over the box.
+void addLocal(const MpuField& field, const MpuLocal& l, const Interval& distance, const Vec3& c, const Vec3& half,
+              double rho, TaylorSums& taylor, ErrorSums& sums) {
+    const double R = l.radius, R2 = R * R;
+    const PieceInEffect piece = pieceInEffect(field, l, c, half);
+    const MpuQuadric& q = field.pieces()[l.first + piece.index];
+    Vec3 gq;
+    const double qc = q.evaluate(c, &gq);
+    const Vec3 r = c - l.center;
+    if (r.squaredNorm() < R2) taylor.add(q, qc, gq, r, R2);
+    // Bounds of w's first three directional derivatives over the box.
+    const double sigmaMax = 1.0 - distance.lo * distance.lo / R2;
+    const double w1 = mpuWeightSlope(distance, R), w2 = weightCurvatureBound(distance, R),
+                 w3 = weightThirdBound(distance, R);
+    const double hqNorm = 2.0 * field.pieceCurvature(l.first + piece.index);  // at least |u^T Hq u|
+    const double q0 = quadraticRange(qc, gq, q.A, half).magnitude(), q1 = gq.norm() + hqNorm * rho;
+    (l.count == 1 ? sums.singleThird : sums.sharpThird) += w3 * q0 + 3.0 * w2 * q1 + 3.0 * w1 * hqNorm;
+    const double w0 = sigmaMax * sigmaMax * sigmaMax;
+    sums.scale += w0 * q0;
+    if (!piece.throughout) {
+        // Where the crease crosses the box the local is any of its
+        // pieces: w (S - Q_p) is an error of its own, bounded by the
+        // pieces' largest difference from Q_p and their gradients'.
+        double difference = 0.0, slopeDifference = 0.0;
+        for (int k = 0; k < l.count; ++k) {
+            const MpuQuadric& other = field.pieces()[l.first + k];
+            Vec3 gk;
+            const double vk = other.evaluate(c, &gk);
+            difference = std::max(difference, quadraticRange(vk - qc, gk - gq, other.A - q.A, half).magnitude());
+            slopeDifference = std::max(slopeDifference, (gk - gq).norm() + 2.0 * (other.A - q.A).norm() * rho);
+        }
+        sums.creaseValue += w0 * difference;
+        sums.creaseSlope += w1 * difference + w0 * slopeDifference;
+    }
+}
+
+// The errors from the sums, over a box of half diagonal rho.
+void setErrors(MpuNumeratorModel& m, const ErrorSums& sums, double rho) {
+    const double third = sums.singleThird + sums.sharpThird;
+    // Rounding: exact sums are evaluated to about 1e-16 of their terms.
+    const double rounding = 1e-12 * sums.scale;
+    m.valueError = (third * rho * rho * rho / 6.0 + sums.creaseValue) * (1 + 1e-9) + rounding;
+    m.slopeError = (third * rho * rho / 2.0 + sums.creaseSlope) * (1 + 1e-9) + rounding / std::max(rho, 1e-300);
+    m.singleThird = sums.singleThird;
+    m.scale = sums.scale;
+}
+
+}  // namespace
+
 MpuNumeratorModel fitMpuNumeratorModel(const MpuField& field, const Box3& box, std::span<const uint32_t> locals) {
     const Vec3 c = box.center(), half = 0.5 * box.extent();
     const double rho = half.norm();
     MpuNumeratorModel m;
     m.center = c;
     m.value = MpuField::kBackgroundWeight * field.backgroundMargin();  // the background inside the domain
-    double third = 0.0, scale = std::abs(m.value), creaseValue = 0.0, creaseSlope = 0.0;
+    ErrorSums sums;
+    sums.scale = std::abs(m.value);
+    TaylorSums taylor;
     for (const uint32_t i : locals) {
         const MpuLocal& l = field.locals()[i];
         const Interval distance = box.distanceRange(l.center);
-        const double R = l.radius, R2 = R * R;
-        if (distance.lo >= R) continue;
-        const PieceInEffect piece = pieceInEffect(field, l, c, half);
-        const MpuQuadric& q = field.pieces()[l.first + piece.index];
+        if (distance.lo < l.radius) addLocal(field, l, distance, c, half, rho, taylor, sums);
+    }
+    taylor.store(m);
+    setErrors(m, sums, rho);
+    return m;
+}
+
+MpuNumeratorModel mpuNumeratorModelWithin(const MpuField& field, const Box3& box, std::span<const uint32_t> locals,
+                                          const MpuNumeratorModel& outer) {
+    const Vec3 c = box.center(), half = 0.5 * box.extent();
+    const double rho = half.norm();
+    MpuNumeratorModel m;
+    m.center = c;
+    m.value = MpuField::kBackgroundWeight * field.backgroundMargin();
+    TaylorSums taylor;
+    ErrorSums sums;
+    sums.singleThird = outer.singleThird;
+    sums.scale = outer.scale;
+    for (const uint32_t i : locals) {
+        const MpuLocal& l = field.locals()[i];
+        if (l.count > 1) {
+            // Sharp locals are bounded anew: their pieces in effect, and
+            // their creases, differ from box to box.
+            const Interval distance = box.distanceRange(l.center);
+            if (distance.lo < l.radius) addLocal(field, l, distance, c, half, rho, taylor, sums);
+            continue;
+        }
+        const Vec3 r = c - l.center;
+        const double R2 = l.radius * l.radius;
+        if (r.squaredNorm() >= R2) continue;
+        const MpuQuadric& q = field.pieces()[l.first];
         Vec3 gq;
         const double qc = q.evaluate(c, &gq);
-        const Vec3 r = c - l.center;
-        const double r2 = r.squaredNorm();
-        if (r2 < R2) {
-            // w Q's Hessian: Q Hw + dw gq^T + gq dw^T + w Hq, with
-            // Hw = 6 sigma ds ds^T - 6 sigma^2 / R^2 I and Hq = 2 A (A symmetric).
-            const double sigma = 1.0 - r2 / R2, w = sigma * sigma * sigma;
-            const Vec3 ds = (2.0 / R2) * r, dw = (-3.0 * sigma * sigma) * ds;
-            const double outer = 6.0 * sigma * qc, diagonal = 6.0 * sigma * sigma * qc / R2;
-            m.value += w * qc;
-            m.gradient += qc * dw + w * gq;
-            for (int i = 0; i < 3; ++i)
-                for (int j = i; j < 3; ++j)
-                    m.hessian(i, j) += outer * ds[i] * ds[j] + dw[i] * gq[j] + gq[i] * dw[j] + 2.0 * w * q.A(i, j);
-            for (int i = 0; i < 3; ++i) m.hessian(i, i) -= diagonal;
-        }
-        // Bounds of w's first three directional derivatives over the box.
-        const double sigmaMax = 1.0 - distance.lo * distance.lo / R2;
-        const double w1 = mpuWeightSlope(distance, R), w2 = weightCurvatureBound(distance, R),
-                     w3 = weightThirdBound(distance, R);
-        const double hqNorm = 2.0 * field.pieceCurvature(l.first + piece.index);  // at least |u^T Hq u|
-        const double q0 = quadraticRange(qc, gq, q.A, half).magnitude(), q1 = gq.norm() + hqNorm * rho;
-        third += w3 * q0 + 3.0 * w2 * q1 + 3.0 * w1 * hqNorm;
-        const double w0 = sigmaMax * sigmaMax * sigmaMax;
-        scale += w0 * q0;
-        if (!piece.throughout) {
-            // Where the crease crosses the box the local is any of its
-            // pieces: w (S - Q_p) is an error of its own, bounded by the
-            // pieces' largest difference from Q_p and their gradients'.
-            double difference = 0.0, slopeDifference = 0.0;
-            for (int k = 0; k < l.count; ++k) {
-                const MpuQuadric& other = field.pieces()[l.first + k];
-                Vec3 gk;
-                const double vk = other.evaluate(c, &gk);
-                difference = std::max(difference, quadraticRange(vk - qc, gk - gq, other.A - q.A, half).magnitude());
-                slopeDifference = std::max(slopeDifference, (gk - gq).norm() + 2.0 * (other.A - q.A).norm() * rho);
-            }
-            creaseValue += w0 * difference;
-            creaseSlope += w1 * difference + w0 * slopeDifference;
-        }
+        taylor.add(q, qc, gq, r, R2);
     }
-    // Rounding: exact sums are evaluated to about 1e-16 of their terms.
-    const double rounding = 1e-12 * scale;
-    m.valueError = (third * rho * rho * rho / 6.0 + creaseValue) * (1 + 1e-9) + rounding;
-    m.slopeError = (third * rho * rho / 2.0 + creaseSlope) * (1 + 1e-9) + rounding / std::max(rho, 1e-300);
-    for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < i; ++j) m.hessian(i, j) = m.hessian(j, i);
+    taylor.store(m);
+    setErrors(m, sums, rho);
     return m;
 }
 

@@ -38,6 +38,11 @@ struct MpuNumeratorModel {
     Vec3 gradient = Vec3::Zero();
     Mat3 hessian = Mat3::Zero();
     double valueError = 0.0, slopeError = 0.0;
+    /// What a model of a box inside this one takes over (see
+    /// mpuNumeratorModelWithin): the single-piece locals' share of the bound
+    /// on N's third derivatives over the box, and the size of the sums (for
+    /// rounding).
+    double singleThird = 0.0, scale = 0.0;
 
     /// T at x, and its gradient if asked.
     double at(const Vec3& x, Vec3* gradientAt = nullptr) const {
@@ -51,6 +56,14 @@ struct MpuNumeratorModel {
 /// whose ball reaches the box (others listed are skipped). The box must lie
 /// in the field's domain, and the field hold no interpolants.
 MpuNumeratorModel fitMpuNumeratorModel(const MpuField& field, const Box3& box, std::span<const uint32_t> locals);
+
+/// The model of N over `box`, which lies inside the box of `outer`: the
+/// single-piece locals' share of outer's bound on N's third derivatives
+/// holds in every box inside, so only their Taylor terms at the centre are
+/// summed (over the balls that hold it), not their bounds; sharp locals are
+/// bounded anew. Looser than a model of its own, about a third of the work.
+MpuNumeratorModel mpuNumeratorModelWithin(const MpuField& field, const Box3& box, std::span<const uint32_t> locals,
+                                          const MpuNumeratorModel& outer);
 
 /// The range of value + gradient . y + y^T A y (A symmetric) over
 /// |y_k| <= half_k.

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <vector>
 
 #include "geometry/pointsets/mpu_numerator_model.h"
@@ -27,37 +28,18 @@ constexpr int kMaxSplits = 2;
 constexpr double kModelTolerance = 0.15;
 constexpr int kMaxModelSplits = 4;
 
-Interval largerRange(Interval a, Interval b) { return {std::max(a.lo, b.lo), std::max(a.hi, b.hi)}; }
-Interval smallerRange(Interval a, Interval b) { return {std::min(a.lo, b.lo), std::min(a.hi, b.hi)}; }
-
-// The range of Q(x) - (value + gradient . (x - center)) over the box
-// center +- half: Q's value and gradient at the centre plus the reach of its
-// gradient and of A over the half-extents (tight, unlike a range about a far
-// origin).
-Interval rangeAboutCenter(const MpuQuadric& q, const Vec3& center, const Vec3& half, double value,
-                          const Vec3& gradient) {
-    Vec3 g;
-    const double c = q.evaluate(center, &g) - value;
-    return quadraticRange(c, g - gradient, q.A, half);
-}
-
-// A part and the band that holds its surface. Over the part's box f lies
-// near the plane L(x) = value + gradient . (x - center), f's tangent plane
-// at the box's centre: f - L = sum_i w_i (Q_i - L) / W (plus the faint
-// background's share), and each |Q_i - L| has an interval bound D_i over the
-// box. Weighing them matters: a ball grown over sparse data may disagree
-// with L a hundred times more than its neighbours, where it weighs little.
-// For any threshold delta,
-//   |f - L| <= delta + sum over D_i > delta of w_i,max (D_i - delta) / W_min,
-// and the band is the least of these over the thresholds D_i. The surface
-// lies where |L| <= band: a slab a ray crosses in closed form, so rays that
-// miss it cost no local function.
+// A part: its box (in the leaf's frame, shrunk to where its model may hold
+// zero), its locals, and its model of N, fitted over the box it was carved
+// as (about that box's centre). The surface lies where |L| <= band, L the
+// model's tangent plane at the centre and band its error plus the reach of
+// its curvature: a slab a ray crosses in closed form, so rays that miss it
+// cost nothing more.
 struct MpuPart {
     Box3 box;  ///< in the leaf's frame
     uint32_t first = 0, count = 0;
     Vec3 center = Vec3::Zero(), gradient = Vec3::Zero();
     double value = 0.0, band = 0.0;
-    int32_t model = -1;  ///< index into the tracer's models, or none
+    uint32_t model = 0;  ///< index into the tracer's models
 };
 
 // What a part's model adds to its centre, value and gradient (the model's
@@ -78,71 +60,14 @@ struct PartModel {
     }
 };
 
-// The part over `box` with the locals in `locals`; false when the band
-// proves the box free of surface.
-bool fitBand(const MpuField& field, const Box3& box, std::span<const uint32_t> locals, MpuPart& part) {
-    part.box = box;
-    part.center = box.center();
-    part.value = field.valueAndGradient(part.center, part.gradient, locals);
-    if (!std::isfinite(part.value) || !part.gradient.allFinite()) {
-        // No plane to speak of: keep the whole box.
-        part.value = 0.0;
-        part.gradient = Vec3::Zero();
-        part.band = std::numeric_limits<double>::infinity();
-        return true;
-    }
-    const Vec3 half = 0.5 * box.extent();
-    const double planeSpread = part.gradient.cwiseAbs().dot(half);  // |L - value| over the box
-    struct Deviation {
-        double bound, weight;  // D_i, w_i,max
-    };
-    thread_local std::vector<Deviation> deviations;  // build time: grows once per thread
-    deviations.clear();
-    double weightBelow = MpuField::kBackgroundWeight, magnitude = std::abs(part.value);
-    for (const uint32_t i : locals) {
-        const MpuLocal& l = field.locals()[i];
-        const Interval distance = box.distanceRange(l.center);
-        if (distance.lo >= l.radius) continue;
-        auto weightAt = [&](double r) { return mpuWeight(r * r, l.radius * l.radius); };
-        weightBelow += weightAt(distance.hi);
-        // Q - L is a quadric of the same A; centred on the box, its range
-        // is its value there plus the reach of its gradient and of A over
-        // the half-extents (tight, unlike a range about a far origin).
-        Interval v[3];
-        for (int k = 0; k < l.count; ++k) {
-            v[k] = rangeAboutCenter(field.pieces()[l.first + k], part.center, half, part.value, part.gradient);
-            magnitude = std::max(magnitude, v[k].magnitude());
-        }
-        deviations.push_back({combineMpuPieces(l, v, largerRange, smallerRange).magnitude(), weightAt(distance.lo)});
-    }
-    std::sort(deviations.begin(), deviations.end(),
-              [](const Deviation& a, const Deviation& b) { return a.bound > b.bound; });
-    // Threshold delta = D_k: the k larger ones pay their excess.
-    double deviation = deviations.empty() ? 0.0 : std::numeric_limits<double>::infinity();
-    double weighted = 0.0, weights = 0.0;
-    for (size_t k = 0; k <= deviations.size(); ++k) {
-        const double delta = k < deviations.size() ? deviations[k].bound : 0.0;
-        deviation = std::min(deviation, delta + (weighted - delta * weights) / weightBelow);
-        if (k < deviations.size()) {
-            weighted += deviations[k].weight * deviations[k].bound;
-            weights += deviations[k].weight;
-        }
-    }
-    // The background's share: weight over W, times its distance from L.
-    const double background = std::abs(field.backgroundMargin() - part.value) + planeSpread;
-    deviation += MpuField::kBackgroundWeight / weightBelow * background;
-    part.band = deviation * (1 + 1e-9) + 1e-12 * (magnitude + planeSpread);
-    return std::abs(part.value) <= part.band + planeSpread;
-}
-
 // Where a ray crosses a part's band, solving N exactly as a polynomial
-// turns each of the 60-80 locals listed into a polynomial of degree 8. A
-// part with a model needs none of that where |T| exceeds its error: N has
-// T's sign there. In the spans between, where T's slope beats the slope's
+// turns each of the 60-80 locals listed into a polynomial of degree 8. The
+// part's model needs none of that where |T| exceeds its error: N has T's
+// sign there. In the spans between, where T's slope beats the slope's
 // error, N is monotone: its one root (if the signs at the ends differ) is
 // settled by Newton steps on the exact N, two or three point evaluations.
-// Only spans not proven monotone (rays grazing the surface) and parts
-// without a model take the exact search.
+// Only spans not proven monotone (rays grazing the surface, or models of
+// the deepest parts, kept however loose) take the exact search.
 class MpuCellTracer final : public CellTracer {
 public:
     MpuCellTracer(std::shared_ptr<const MpuField> field, const LeafPlacement& placement, std::vector<MpuPart> parts,
@@ -172,9 +97,7 @@ public:
         const std::span<const uint32_t> locals(locals_.data() + part.first, part.count);
         const double tolerance = settings.epsilon / direction.norm();
         Vec3 gradient;
-        const bool hit = part.model >= 0
-                             ? modelledRoot(part, models_[part.model], locals, o, d, t0, t1, tolerance, r, gradient)
-                             : exactRoot(locals, o, d, t0, t1, tolerance, r, gradient);
+        const bool hit = modelledRoot(part, models_[part.model], locals, o, d, t0, t1, tolerance, r, gradient);
         if (!hit) return r;
         r.hit = true;
         r.gradientKnown = true;
@@ -346,8 +269,9 @@ std::optional<CellAcceleration> MpuCellAccelerator::accelerate(const FieldProgra
     std::vector<PartModel> models;
     // A part over `b` whose locals are locals[first, first + count) (its
     // ancestor's list, shared by the parts carved from it): modelled where
-    // its model is accurate enough, split while it is not, else left to the
-    // exact polynomial search.
+    // its model is accurate enough, split while it is not; at the deepest
+    // level, modelled however loosely (the model still proves most signs,
+    // and the exact search takes what it cannot).
     auto keep = [&](auto&& self, const Box3& b, int splits, uint32_t first, uint32_t count,
                     const MpuNumeratorModel* parent) -> void {
         const Vec3 half = 0.5 * b.extent();
@@ -361,25 +285,50 @@ std::optional<CellAcceleration> MpuCellAccelerator::accelerate(const FieldProgra
         }
         const std::span<const uint32_t> list(locals.data() + first, count);
         MpuPart part;
-        const MpuNumeratorModel model = fitMpuNumeratorModel(field, b, list);
         // T's reach from its tangent plane over the box, and N's.
-        const Interval curved = quadraticRange(0.0, Vec3::Zero(), 0.5 * model.hessian, half);
-        const double band = model.valueError + curved.magnitude();
-        const double planeSpread = model.gradient.cwiseAbs().dot(half);
-        if (std::abs(model.value) > band + planeSpread) return;  // proven free of surface
-        if (model.valueError <= kModelTolerance * model.gradient.norm() * half.norm()) {
-            part.box = b;
-            part.center = b.center();
-            part.value = model.value;
-            part.gradient = model.gradient;
-            part.band = band;
-            part.model = int32_t(models.size());
-            models.emplace_back(model);
-        } else if (splits < kMaxModelSplits) {
-            for (int k = 0; k < 8; ++k) self(self, b.octant(k), splits + 1, first, count, &model);
+        auto bandOf = [&](const MpuNumeratorModel& m) {
+            return m.valueError + quadraticRange(0.0, Vec3::Zero(), 0.5 * m.hessian, half).magnitude();
+        };
+        auto holdsNoSurface = [&](const MpuNumeratorModel& m) {
+            return std::abs(m.value) > bandOf(m) + m.gradient.cwiseAbs().dot(half);
+        };
+        auto accurate = [&](const MpuNumeratorModel& m) {
+            return m.valueError <= kModelTolerance * m.gradient.norm() * half.norm();
+        };
+        // Inside a parent, most of its bound on N's third derivatives
+        // serves first: most boxes are settled (empty, or modelled) by it,
+        // and bounding them anew costs three times as much.
+        std::optional<MpuNumeratorModel> model;
+        if (parent) {
+            model = mpuNumeratorModelWithin(field, b, list, *parent);
+            if (holdsNoSurface(*model)) return;
+            if (!accurate(*model)) model.reset();
+        }
+        if (!model) {
+            model = fitMpuNumeratorModel(field, b, list);
+            if (holdsNoSurface(*model)) return;
+        }
+        if (!accurate(*model) && splits < kMaxModelSplits) {
+            for (int k = 0; k < 8; ++k) self(self, b.octant(k), splits + 1, first, count, &*model);
             return;
         }
-        if (part.model < 0 && !fitBand(field, b, list, part)) return;
+        // Embree is offered the box shrunk, two halvings deep, to where the
+        // model's range may hold zero: rays that pass its corners never
+        // call the tracer.
+        const MpuNumeratorModel& m = *model;
+        part.box = shrunkToSurface(b, [&m](const Box3& sub) {
+            Vec3 slope;
+            const double value = m.at(sub.center(), &slope);
+            const Interval t = quadraticRange(value, slope, 0.5 * m.hessian, 0.5 * sub.extent());
+            return Interval{t.lo - m.valueError, t.hi + m.valueError};
+        });
+        if (part.box.isEmpty()) return;
+        part.center = b.center();
+        part.value = m.value;
+        part.gradient = m.gradient;
+        part.band = bandOf(m);
+        part.model = uint32_t(models.size());
+        models.emplace_back(m);
         part.first = first;
         part.count = count;
         parts.push_back(part);

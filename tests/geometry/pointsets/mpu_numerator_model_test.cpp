@@ -1,6 +1,7 @@
 // The Taylor model of an MPU field's numerator must keep within its proven
 // errors everywhere in its box: value and slope along any direction,
-// against N summed exactly at random points. Boxes of three sizes near the
+// against N summed exactly at random points; so must a model that takes
+// over the bounds of an outer box. Boxes of three sizes near the
 // data, on a smooth fit with general quadrics (oni) and across the creases
 // of edge and corner functions (a drilled cube). The largest share of each
 // bound the errors reach is reported: a bound is only useful if it is not
@@ -39,14 +40,23 @@ void expectWithinBounds(const MpuField& field, const std::vector<MpuPoint>& poin
             box.extend(near - half);
             box.extend(near + half);
             if (!domain.contains(box)) continue;
+            // The box's own model, and the one that takes over the bounds
+            // of an outer box, twice as large, of which it is an octant.
+            Box3 outer;
+            outer.extend(box.lower);
+            outer.extend(box.upper + box.extent());
+            if (!domain.contains(outer)) continue;
             ++boxes;
-            field.localsTouching(box, locals);
-            const MpuNumeratorModel m = fitMpuNumeratorModel(field, box, locals);
-            ASSERT_TRUE(std::isfinite(m.valueError) && std::isfinite(m.slopeError));
-            for (int k = 0; k < 40; ++k) {
+            field.localsTouching(outer, locals);
+            const MpuNumeratorModel own = fitMpuNumeratorModel(field, box, locals);
+            const MpuNumeratorModel within =
+                mpuNumeratorModelWithin(field, box, locals, fitMpuNumeratorModel(field, outer, locals));
+            for (int k = 0; k < 80; ++k) {
+                const MpuNumeratorModel& m = k < 40 ? own : within;
+                ASSERT_TRUE(std::isfinite(m.valueError) && std::isfinite(m.slopeError));
                 // The corners first: the remainder grows with |x - c|^3.
                 const Vec3 corner(k & 1 ? 1.0 : -1.0, k & 2 ? 1.0 : -1.0, k & 4 ? 1.0 : -1.0);
-                const Vec3 x = near + (k < 8 ? corner : Vec3(u(rng), u(rng), u(rng))).cwiseProduct(half);
+                const Vec3 x = near + (k % 40 < 8 ? corner : Vec3(u(rng), u(rng), u(rng))).cwiseProduct(half);
                 const MpuBlendSums exact = field.blendSums(x, locals);
                 Vec3 modelGradient;
                 const double model = m.at(x, &modelGradient);
