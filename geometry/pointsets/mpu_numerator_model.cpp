@@ -138,17 +138,29 @@ Interval quadraticRange(double value, const Vec3& gradient, const Mat3& A, const
 namespace {
 
 // The error sums of a model: M3 (the bound on N's third directional
-// derivatives over the box), split into the single-piece locals' share
-// (which holds in any box inside, see mpuNumeratorModelWithin) and the sharp
-// ones'; the creases' own errors; and the size of the sums, for rounding.
+// derivatives over the box), split into the shares that hold in any box
+// inside (see mpuNumeratorModelWithin): single-piece locals', and sharp ones'
+// whose crease does not cross the box; the shares of the sharp locals whose
+// crease does, and the creases' own errors; and the size of the sums, for
+// rounding.
 struct ErrorSums {
-    double singleThird = 0.0, sharpThird = 0.0, scale = 0.0, creaseValue = 0.0, creaseSlope = 0.0;
+    double singleThird = 0.0, throughoutSharpThird = 0.0, creasedThird = 0.0;
+    double scale = 0.0, creaseValue = 0.0, creaseSlope = 0.0;
 };
+
+// Where a crease crosses the box: the local is remembered (for models of
+// boxes inside), or all sharp locals are, past kMaxCreased.
+void noteCreased(MpuNumeratorModel& m, uint32_t local) {
+    if (m.creasedCount < 0) return;
+    if (m.creasedCount == MpuNumeratorModel::kMaxCreased) m.creasedCount = -1;
+    else m.creased[m.creasedCount++] = local;
+}
 
 // One local's share of the model of N over the box c +- half: its Taylor
 // terms at c and its bounds over the box.
-void addLocal(const MpuField& field, const MpuLocal& l, const Interval& distance, const Vec3& c, const Vec3& half,
-              double rho, TaylorSums& taylor, ErrorSums& sums) {
+void addLocal(const MpuField& field, uint32_t index, const Interval& distance, const Vec3& c, const Vec3& half,
+              double rho, TaylorSums& taylor, ErrorSums& sums, MpuNumeratorModel& m) {
+    const MpuLocal& l = field.locals()[index];
     const double R = l.radius, R2 = R * R;
     const PieceInEffect piece = pieceInEffect(field, l, c, half);
     const MpuQuadric& q = field.pieces()[l.first + piece.index];
@@ -162,7 +174,8 @@ void addLocal(const MpuField& field, const MpuLocal& l, const Interval& distance
                  w3 = weightThirdBound(distance, R);
     const double hqNorm = 2.0 * field.pieceCurvature(l.first + piece.index);  // at least |u^T Hq u|
     const double q0 = quadraticRange(qc, gq, q.A, half).magnitude(), q1 = gq.norm() + hqNorm * rho;
-    (l.count == 1 ? sums.singleThird : sums.sharpThird) += w3 * q0 + 3.0 * w2 * q1 + 3.0 * w1 * hqNorm;
+    const double third = w3 * q0 + 3.0 * w2 * q1 + 3.0 * w1 * hqNorm;
+    (l.count == 1 ? sums.singleThird : piece.throughout ? sums.throughoutSharpThird : sums.creasedThird) += third;
     const double w0 = sigmaMax * sigmaMax * sigmaMax;
     sums.scale += w0 * q0;
     if (!piece.throughout) {
@@ -179,17 +192,19 @@ void addLocal(const MpuField& field, const MpuLocal& l, const Interval& distance
         }
         sums.creaseValue += w0 * difference;
         sums.creaseSlope += w1 * difference + w0 * slopeDifference;
+        noteCreased(m, index);
     }
 }
 
 // The errors from the sums, over a box of half diagonal rho.
 void setErrors(MpuNumeratorModel& m, const ErrorSums& sums, double rho) {
-    const double third = sums.singleThird + sums.sharpThird;
+    const double third = sums.singleThird + sums.throughoutSharpThird + sums.creasedThird;
     // Rounding: exact sums are evaluated to about 1e-16 of their terms.
     const double rounding = 1e-12 * sums.scale;
     m.valueError = (third * rho * rho * rho / 6.0 + sums.creaseValue) * (1 + 1e-9) + rounding;
     m.slopeError = (third * rho * rho / 2.0 + sums.creaseSlope) * (1 + 1e-9) + rounding / std::max(rho, 1e-300);
     m.singleThird = sums.singleThird;
+    m.throughoutSharpThird = sums.throughoutSharpThird;
     m.scale = sums.scale;
 }
 
@@ -207,7 +222,7 @@ MpuNumeratorModel fitMpuNumeratorModel(const MpuField& field, const Box3& box, s
     for (const uint32_t i : locals) {
         const MpuLocal& l = field.locals()[i];
         const Interval distance = box.distanceRange(l.center);
-        if (distance.lo < l.radius) addLocal(field, l, distance, c, half, rho, taylor, sums);
+        if (distance.lo < l.radius) addLocal(field, i, distance, c, half, rho, taylor, sums, m);
     }
     taylor.store(m);
     setErrors(m, sums, rho);
@@ -221,26 +236,47 @@ MpuNumeratorModel mpuNumeratorModelWithin(const MpuField& field, const Box3& box
     MpuNumeratorModel m;
     m.center = c;
     m.value = MpuField::kBackgroundWeight * field.backgroundMargin();
+    // Which sharp locals are bounded anew: those whose crease crosses the
+    // outer box (their piece in effect differs from box to box), or all of
+    // them when outer lost count.
+    const bool allSharpAnew = outer.creasedCount < 0;
+    auto anew = [&](uint32_t i) {
+        return allSharpAnew || std::find(outer.creased, outer.creased + outer.creasedCount, i) !=
+                                   outer.creased + outer.creasedCount;
+    };
     TaylorSums taylor;
     ErrorSums sums;
     sums.singleThird = outer.singleThird;
+    sums.throughoutSharpThird = allSharpAnew ? 0.0 : outer.throughoutSharpThird;
     sums.scale = outer.scale;
     for (const uint32_t i : locals) {
         const MpuLocal& l = field.locals()[i];
-        if (l.count > 1) {
-            // Sharp locals are bounded anew: their pieces in effect, and
-            // their creases, differ from box to box.
+        if (l.count > 1 && anew(i)) {
             const Interval distance = box.distanceRange(l.center);
-            if (distance.lo < l.radius) addLocal(field, l, distance, c, half, rho, taylor, sums);
+            if (distance.lo < l.radius) addLocal(field, i, distance, c, half, rho, taylor, sums, m);
             continue;
         }
         const Vec3 r = c - l.center;
         const double R2 = l.radius * l.radius;
         if (r.squaredNorm() >= R2) continue;
-        const MpuQuadric& q = field.pieces()[l.first];
+        // One piece all over the outer box: the one in effect at c.
+        const MpuQuadric* q = &field.pieces()[l.first];
+        int piece = 0;
+        if (l.count > 1) {
+            struct Valued {
+                double value;
+                int index;
+            };
+            Valued v[3];
+            for (int k = 0; k < l.count; ++k) v[k] = {q[k].evaluate(c, nullptr), k};
+            piece = combineMpuPieces(
+                        l, v, [](Valued a, Valued b) { return a.value >= b.value ? a : b; },
+                        [](Valued a, Valued b) { return a.value <= b.value ? a : b; })
+                        .index;
+        }
         Vec3 gq;
-        const double qc = q.evaluate(c, &gq);
-        taylor.add(q, qc, gq, r, R2);
+        const double qc = q[piece].evaluate(c, &gq);
+        taylor.add(q[piece], qc, gq, r, R2);
     }
     taylor.store(m);
     setErrors(m, sums, rho);

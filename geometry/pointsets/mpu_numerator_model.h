@@ -39,10 +39,15 @@ struct MpuNumeratorModel {
     Mat3 hessian = Mat3::Zero();
     double valueError = 0.0, slopeError = 0.0;
     /// What a model of a box inside this one takes over (see
-    /// mpuNumeratorModelWithin): the single-piece locals' share of the bound
-    /// on N's third derivatives over the box, and the size of the sums (for
-    /// rounding).
-    double singleThird = 0.0, scale = 0.0;
+    /// mpuNumeratorModelWithin): the shares of the bound on N's third
+    /// derivatives over the box of the single-piece locals and of the sharp
+    /// ones whose crease does not cross it; those whose crease does (all
+    /// sharp locals when creasedCount is -1, past kMaxCreased of them); and
+    /// the size of the sums (for rounding).
+    static constexpr int kMaxCreased = 6;
+    double singleThird = 0.0, throughoutSharpThird = 0.0, scale = 0.0;
+    uint32_t creased[kMaxCreased] = {};
+    int creasedCount = 0;
 
     /// T at x, and its gradient if asked.
     double at(const Vec3& x, Vec3* gradientAt = nullptr) const {
@@ -60,8 +65,9 @@ MpuNumeratorModel fitMpuNumeratorModel(const MpuField& field, const Box3& box, s
 /// The model of N over `box`, which lies inside the box of `outer`: the
 /// single-piece locals' share of outer's bound on N's third derivatives
 /// holds in every box inside, so only their Taylor terms at the centre are
-/// summed (over the balls that hold it), not their bounds; sharp locals are
-/// bounded anew. Looser than a model of its own, about a third of the work.
+/// summed (over the balls that hold it), not their bounds; so for sharp
+/// locals whose crease does not cross outer's box. Those whose crease does
+/// are bounded anew. Looser than a model of its own, a fraction of the work.
 MpuNumeratorModel mpuNumeratorModelWithin(const MpuField& field, const Box3& box, std::span<const uint32_t> locals,
                                           const MpuNumeratorModel& outer);
 
