@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace isotrace::geometry {
 
@@ -203,6 +204,9 @@ void setErrors(MpuNumeratorModel& m, const ErrorSums& sums, double rho) {
     const double rounding = 1e-12 * sums.scale;
     m.valueError = (third * rho * rho * rho / 6.0 + sums.creaseValue) * (1 + 1e-9) + rounding;
     m.slopeError = (third * rho * rho / 2.0 + sums.creaseSlope) * (1 + 1e-9) + rounding / std::max(rho, 1e-300);
+    m.hessianError = sums.creaseValue > 0.0 || sums.creaseSlope > 0.0
+                         ? std::numeric_limits<double>::infinity()
+                         : third * rho * (1 + 1e-9) + rounding / std::max(rho * rho, 1e-300);
     m.singleThird = sums.singleThird;
     m.throughoutSharpThird = sums.throughoutSharpThird;
     m.scale = sums.scale;

@@ -38,6 +38,10 @@ struct MpuNumeratorModel {
     Vec3 gradient = Vec3::Zero();
     Mat3 hessian = Mat3::Zero();
     double valueError = 0.0, slopeError = 0.0;
+    /// |u^T (D^2 N - H) u| over the box for unit u: N's Hessian is
+    /// Lipschitz (M3) where no crease crosses the box; infinite where one
+    /// does.
+    double hessianError = 0.0;
     /// What a model of a box inside this one takes over (see
     /// mpuNumeratorModelWithin): the shares of the bound on N's third
     /// derivatives over the box of the single-piece locals and of the sharp

@@ -48,11 +48,11 @@ struct MpuPart {
 // nothing is stored twice.
 struct PartModel {
     double hessian[6];
-    double valueError, slopeError;
+    double valueError, slopeError, hessianError;
 
     explicit PartModel(const MpuNumeratorModel& m)
         : hessian{m.hessian(0, 0), m.hessian(0, 1), m.hessian(0, 2), m.hessian(1, 1), m.hessian(1, 2), m.hessian(2, 2)},
-          valueError(m.valueError), slopeError(m.slopeError) {}
+          valueError(m.valueError), slopeError(m.slopeError), hessianError(m.hessianError) {}
     Vec3 times(const Vec3& v) const {
         return {hessian[0] * v.x() + hessian[1] * v.y() + hessian[2] * v.z(),
                 hessian[1] * v.x() + hessian[3] * v.y() + hessian[4] * v.z(),
@@ -188,17 +188,24 @@ private:
             }
             if (right == 0 && (right = signAt(s.b)) == 0) right = -left;  // the root is s.b itself
             if (left == right) continue;
-            if (settledRoot(locals, o, d, s.a, s.b, left, least, c0, c1, c2, tolerance, r, gradient)) return true;
+            // |N''| along the ray: T's, plus the Hessian's error.
+            const double curvature = 2.0 * std::abs(c2) + m.hessianError * d.squaredNorm();
+            if (settledRoot(locals, o, d, s.a, s.b, left, least, curvature, c0, c1, c2, tolerance, r, gradient))
+                return true;
         }
         return false;
     }
 
     // The one root of N in (a, b), where N has sign `left` at a, the other at
-    // b, and |N'| >= least: Newton steps on the exact N from T's root, kept
-    // inside the bracket. |N(p)| / least bounds p's distance to the root.
+    // b, |N'| >= least and |N''| <= curvature: Newton steps on the exact N
+    // from T's root, kept inside the bracket. delta = |N(p)| / least bounds
+    // p's distance to the root, and the Newton step from p lands within
+    // curvature delta^2 / (2 least) of it: when that is within tolerance,
+    // the step is taken without evaluating N at its end (the gradient is
+    // p's, delta away).
     bool settledRoot(std::span<const uint32_t> locals, const Vec3& o, const Vec3& d, double a, double b, int left,
-                     double least, double c0, double c1, double c2, double tolerance, CellTraceResult& r,
-                     Vec3& gradient) const {
+                     double least, double curvature, double c0, double c1, double c2, double tolerance,
+                     CellTraceResult& r, Vec3& gradient) const {
         double start[2];
         int found = 0;
         quadraticRootsBetween(c2, c1, c0, a, b, start, found);
@@ -220,6 +227,12 @@ private:
                 return true;
             }
             double next = p - n / sums.gradientN.dot(d);
+            const double delta = std::abs(n) / least;
+            if (next > a && next < b && curvature * delta * delta <= 2.0 * least * tolerance) {
+                r.t = next;
+                gradient = sums.gradient();
+                return true;
+            }
             // Outside the bracket, or crawling: halve it instead.
             if (!(next > a && next < b) || iteration >= 8) next = 0.5 * (a + b);
             p = next;
