@@ -530,29 +530,41 @@ void MpuField::finish() {
     nearMargin_ = 0.5 * cellSize_.minCoeff();
     const size_t cells = size_t(grid_) * grid_ * grid_;
     auto index = [&](double margin, std::vector<uint32_t>& start, std::vector<uint32_t>& items) {
-        std::vector<std::vector<uint32_t>> lists(cells);
-        for (uint32_t i = 0; i < locals_.size(); ++i) {
-            const Local& l = locals_[i];
+        // The cells each ball reaches (the cell grown by the margin), axis
+        // by axis: the squared gap from the centre to the cell's slab along
+        // each axis, summed, against R^2 (raised a hair for rounding: a
+        // local listed once too often costs nothing, one missing would).
+        auto forCellsOf = [&](const Local& l, auto&& visit) {
             int lo[3], hi[3];
             for (int k = 0; k < 3; ++k) {
                 lo[k] = gridIndex(l.center[k] - l.radius - margin, k);
                 hi[k] = gridIndex(l.center[k] + l.radius + margin, k);
             }
-            for (int x = lo[0]; x <= hi[0]; ++x)
-                for (int y = lo[1]; y <= hi[1]; ++y)
-                    for (int z = lo[2]; z <= hi[2]; ++z) {
-                        const Box3 c(domain_.lower + cellSize_.cwiseProduct(Vec3(x, y, z)),
-                                     domain_.lower + cellSize_.cwiseProduct(Vec3(x + 1, y + 1, z + 1)));
-                        if (c.expanded(margin).distanceRange(l.center).lo < l.radius)
-                            lists[(size_t(x) * grid_ + y) * grid_ + z].push_back(i);
-                    }
-        }
+            const double reach = l.radius * l.radius * (1 + 1e-12);
+            auto gap = [&](int k, int c) {
+                const double a = domain_.lower[k] + cellSize_[k] * c - margin,
+                             b = domain_.lower[k] + cellSize_[k] * (c + 1) + margin;
+                const double d = std::max({a - l.center[k], 0.0, l.center[k] - b});
+                return d * d;
+            };
+            for (int x = lo[0]; x <= hi[0]; ++x) {
+                const double gx = gap(0, x);
+                if (!(gx < reach)) continue;
+                for (int y = lo[1]; y <= hi[1]; ++y) {
+                    const double gxy = gx + gap(1, y);
+                    if (!(gxy < reach)) continue;
+                    for (int z = lo[2]; z <= hi[2]; ++z)
+                        if (gxy + gap(2, z) < reach) visit((size_t(x) * grid_ + y) * grid_ + z);
+                }
+            }
+        };
+        // Counted, then placed: no list per cell.
         start.assign(cells + 1, 0);
-        items.clear();
-        for (size_t c = 0; c < cells; ++c) {
-            start[c + 1] = start[c] + uint32_t(lists[c].size());
-            items.insert(items.end(), lists[c].begin(), lists[c].end());
-        }
+        for (const Local& l : locals_) forCellsOf(l, [&](size_t cell) { ++start[cell + 1]; });
+        for (size_t c = 0; c < cells; ++c) start[c + 1] += start[c];
+        items.resize(start[cells]);
+        std::vector<uint32_t> next(start.begin(), start.end() - 1);
+        for (uint32_t i = 0; i < locals_.size(); ++i) forCellsOf(locals_[i], [&](size_t cell) { items[next[cell]++] = i; });
     };
     index(0.0, cellStart_, cellItems_);
     index(nearMargin_, nearStart_, nearItems_);
