@@ -224,32 +224,38 @@ inline void monomialTerms(T* acc, T w, T x, T y, T z, std::index_sequence<I...>)
     ((acc[k++] += w * power<kExponents[I][0]>(x) * power<kExponents[I][1]>(y) * power<kExponents[I][2]>(z)), ...);
 }
 
+// K sums over n terms: term(acc, at) adds term j's K values to acc, reading
+// the term's entry of an array p as at(p). Eight terms at a time in lanes,
+// the rest one by one, then the lanes added up.
+template <size_t K, class Term>
+std::array<double, K> laneSums(size_t n, Term term) {
+    Lanes acc[K] = {};
+    size_t j = 0;
+    for (; j + kLanes <= n; j += kLanes)
+        term(acc, [j](const double* p) {
+            Lanes v;
+            std::memcpy(&v, p + j, sizeof(Lanes));
+            return v;
+        });
+    double rest[K] = {};
+    for (; j < n; ++j) term(rest, [j](const double* p) { return p[j]; });
+    std::array<double, K> sums;
+    for (size_t k = 0; k < K; ++k) {
+        sums[k] = rest[k];
+        for (size_t lane = 0; lane < kLanes; ++lane) sums[k] += acc[k][lane];
+    }
+    return sums;
+}
+
 template <size_t... I>
 void moments(const std::vector<double>& weight, const Scratch& s, std::array<double, VariationalPatch::kMonomials>& out,
              std::index_sequence<I...> monomials) {
-    constexpr size_t K = sizeof...(I);
     const double *w = weight.data(), *x = s.dx.data(), *y = s.dy.data(), *z = s.dz.data();
-    const size_t n = weight.size();
-    Lanes acc[K] = {};
-    size_t j = 0;
-    for (; j + kLanes <= n; j += kLanes) {
-        Lanes lw, lx, ly, lz;
-        std::memcpy(&lw, w + j, sizeof(Lanes));
-        std::memcpy(&lx, x + j, sizeof(Lanes));
-        std::memcpy(&ly, y + j, sizeof(Lanes));
-        std::memcpy(&lz, z + j, sizeof(Lanes));
-        monomialTerms(acc, lw, lx, ly, lz, monomials);
-    }
-    double rest[K] = {};
-    for (; j < n; ++j) monomialTerms(rest, w[j], x[j], y[j], z[j], monomials);
+    const auto sums = laneSums<sizeof...(I)>(weight.size(), [&](auto* acc, auto at) {
+        monomialTerms(acc, at(w), at(x), at(y), at(z), monomials);
+    });
     size_t k = 0;
-    ((out[I] = [&] {
-         double sum = rest[k];
-         for (size_t lane = 0; lane < kLanes; ++lane) sum += acc[k][lane];
-         ++k;
-         return sum;
-     }()),
-     ...);
+    ((out[I] = sums[k++]), ...);
 }
 
 // The monomials of one degree, as indices into kExponents.
@@ -311,35 +317,14 @@ void hermiteDerivatives(const HermiteScratch& q, std::array<double, VariationalP
     const double *i3 = q.farInvR3.data(), *i5 = q.farInvR5.data(), *i7 = q.farInvR7.data();
     const double *sv = all ? q.s.data() : q.farS.data(), *bx = all ? q.bx.data() : q.farBx.data(),
                  *by = all ? q.by.data() : q.farBy.data(), *bz = all ? q.bz.data() : q.farBz.data();
-    const size_t n = q.dx.size();
-    Lanes acc[K] = {};
-    auto load = [](const double* p) {
-        Lanes v;
-        std::memcpy(&v, p, sizeof(Lanes));
-        return v;
-    };
-    size_t j = 0;
-    for (; j + kLanes <= n; j += kLanes) {
-        const Lanes lx = load(x + j), ly = load(y + j), lz = load(z + j), lr = load(r + j), l1 = load(i1 + j),
-                    l3 = load(i3 + j), l5 = load(i5 + j), l7 = load(i7 + j), ls = load(sv + j), lbx = load(bx + j),
-                    lby = load(by + j), lbz = load(bz + j);
+    const auto sums = laneSums<K>(q.dx.size(), [&](auto* acc, auto at) {
         size_t k = 0;
-        ((acc[k++] += hermiteTerm<I>(lx, ly, lz, lr, l1, l3, l5, l7, ls, lbx, lby, lbz)), ...);
-    }
-    double rest[K] = {};
-    for (; j < n; ++j) {
-        size_t k = 0;
-        ((rest[k++] += hermiteTerm<I>(x[j], y[j], z[j], r[j], i1[j], i3[j], i5[j], i7[j], sv[j], bx[j], by[j], bz[j])),
+        ((acc[k++] += hermiteTerm<I>(at(x), at(y), at(z), at(r), at(i1), at(i3), at(i5), at(i7), at(sv), at(bx), at(by),
+                                     at(bz))),
          ...);
-    }
+    });
     size_t k = 0;
-    ((out[I] = [&] {
-         double sum = rest[k];
-         for (size_t lane = 0; lane < kLanes; ++lane) sum += acc[k][lane];
-         ++k;
-         return 3.0 * sum;
-     }()),
-     ...);
+    ((out[I] = 3.0 * sums[k++]), ...);
 }
 
 void accumulateHermiteMonomials(const HermiteScratch& q, std::array<double, VariationalPatch::kMonomials>& out) {
