@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 #include "geometry/bracketed_root.h"
@@ -110,7 +111,7 @@ public:
                 n.distance[k] = (x - l.center).norm();
                 const double q = 1.0 - n.distance[k] * n.distance[k] * l.inverseRadius2;
                 if (!(q > 0)) {
-                    n.value[k] = 0.0;
+                    n.value[k] = std::numeric_limits<double>::quiet_NaN();  // evaluated if a step needs it
                     continue;
                 }
                 const double weight = q * q * q;
@@ -152,13 +153,19 @@ public:
         // The span of t around t proven free of zeros, given a margin there:
         // each ball radius h proves min(h, margin / bound(h)); a few radii
         // about the distance f suggests are tried, the best kept.
-        auto provenRadius = [&](const Sum& n, double margin) {
+        auto provenRadius = [&](double t, Sum& n, double margin) {
             auto bound = [&](double h) {
                 double slope = 0.0;
                 for (uint32_t k = 0; k < part.count; ++k) {
                     const ModelledLocal& l = locals_[part.first + k];
                     const double a = std::max(n.distance[k] - h, 0.0);
                     if (a >= l.radius) continue;
+                    // A ball the point lies outside but the step's reaches:
+                    // its interpolant's value at the point bounds it there.
+                    if (std::isnan(n.value[k])) {
+                        n.value[k] = models_[part.first + k].value(o + t * d);
+                        modelTerms += VariationalPatch::kMonomials + models_[part.first + k].nearTermCount();
+                    }
                     const double slopeMax = mpuWeightSlope({a, n.distance[k] + h}, l.radius);
                     const double weightMax = mpuWeight(a * a, l.radius * l.radius);
                     slope += slopeMax * (std::abs(n.value[k]) + l.valueError + l.lipschitz * h) + weightMax * l.lipschitz;
@@ -200,7 +207,7 @@ public:
                 // estimate's sign (0: on it).
                 sign = n.centre < 0 ? -1 : (n.centre > 0 ? 1 : 0);
             }
-            const double radius = margin > 0 ? provenRadius(n, margin) : 0.0;
+            const double radius = margin > 0 ? provenRadius(t, n, margin) : 0.0;
             if (sign == 0) return hitAt(finish(true, t), part, o, d);
             if (previousSign != 0 && sign != previousSign) {
                 // The root is in [tPrevious, t], a forced step at most: on
