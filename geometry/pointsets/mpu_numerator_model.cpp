@@ -207,6 +207,8 @@ void setErrors(MpuNumeratorModel& m, const ErrorSums& sums, double rho) {
     m.hessianError = sums.creaseValue > 0.0 || sums.creaseSlope > 0.0
                          ? std::numeric_limits<double>::infinity()
                          : third * rho * (1 + 1e-9) + rounding / std::max(rho * rho, 1e-300);
+    m.third = third;
+    m.halfDiagonal = rho;
     m.singleThird = sums.singleThird;
     m.throughoutSharpThird = sums.throughoutSharpThird;
     m.scale = sums.scale;

@@ -42,6 +42,11 @@ struct MpuNumeratorModel {
     /// Lipschitz (M3) where no crease crosses the box; infinite where one
     /// does.
     double hessianError = 0.0;
+    /// M3, the bound on N's third directional derivatives over the box, and
+    /// the box's half diagonal rho: valueError is M3 rho^3 / 6 and
+    /// slopeError M3 rho^2 / 2 (raised for rounding, plus the creases' share),
+    /// and within distance r of the centre M3 r^3 / 6 and M3 r^2 / 2 hold.
+    double third = 0.0, halfDiagonal = 0.0;
     /// What a model of a box inside this one takes over (see
     /// mpuNumeratorModelWithin): the shares of the bound on N's third
     /// derivatives over the box of the single-piece locals and of the sharp

@@ -49,10 +49,12 @@ struct MpuPart {
 struct PartModel {
     double hessian[6];
     double valueError, slopeError, hessianError;
+    double third, halfDiagonal;  ///< M3 and rho (see MpuNumeratorModel)
 
     explicit PartModel(const MpuNumeratorModel& m)
         : hessian{m.hessian(0, 0), m.hessian(0, 1), m.hessian(0, 2), m.hessian(1, 1), m.hessian(1, 2), m.hessian(2, 2)},
-          valueError(m.valueError), slopeError(m.slopeError), hessianError(m.hessianError) {}
+          valueError(m.valueError), slopeError(m.slopeError), hessianError(m.hessianError), third(m.third),
+          halfDiagonal(m.halfDiagonal) {}
     Vec3 times(const Vec3& v) const {
         return {hessian[0] * v.x() + hessian[1] * v.y() + hessian[2] * v.z(),
                 hessian[1] * v.x() + hessian[3] * v.y() + hessian[4] * v.z(),
@@ -124,11 +126,43 @@ private:
     bool modelledRoot(const MpuPart& part, const PartModel& m, std::span<const uint32_t> locals, const Vec3& o,
                       const Vec3& d, double t0, double t1, double tolerance, CellTraceResult& r,
                       Vec3& gradient) const {
+        const NearErrors whole = nearErrors(part, m, o, d, t0, t1);
+        return spansRoot(part, m, locals, o, d, t0, t1, whole.value, whole.slope, 0, 0, true, tolerance, r, gradient);
+    }
+
+    // The model's errors over the ray's segment [a, b]: within distance r of
+    // the centre Taylor's remainder is M3 r^3 / 6 (slope: M3 r^2 / 2), and a
+    // segment's farthest point from the centre is one of its ends. Where a
+    // crease crosses the part, the whole part's errors.
+    struct NearErrors {
+        double value, slope;  ///< the slope's per unit of length
+    };
+    static NearErrors nearErrors(const MpuPart& part, const PartModel& m, const Vec3& o, const Vec3& d, double a,
+                                 double b) {
+        if (!std::isfinite(m.hessianError)) return {m.valueError, m.slopeError};
+        const double reach = std::max((o + a * d - part.center).norm(), (o + b * d - part.center).norm());
+        const double rho = m.halfDiagonal, scale = 1 + 1e-9;
+        // The rounding shares: what the errors hold beyond M3's.
+        const double valueRounding = std::max(0.0, m.valueError - m.third * rho * rho * rho / 6.0 * scale),
+                     slopeRounding = std::max(0.0, m.slopeError - m.third * rho * rho / 2.0 * scale);
+        return {std::min(m.valueError, m.third * reach * reach * reach / 6.0 * scale + valueRounding),
+                std::min(m.slopeError, m.third * reach * reach / 2.0 * scale + slopeRounding)};
+    }
+
+    // The first root in [t0, t1] on the model with value error e and slope
+    // error slopeErrorPerUnit (per unit of length); the signs of N just
+    // before t0 and after t1, where known (0 if not). A span the errors
+    // leave undecided is looked at again with the errors of its own
+    // distance from the centre (Taylor's remainder grows as its cube), if
+    // allowed and clearly smaller, before the exact search takes it.
+    bool spansRoot(const MpuPart& part, const PartModel& m, std::span<const uint32_t> locals, const Vec3& o,
+                   const Vec3& d, double t0, double t1, double e, double slopeErrorPerUnit, int outerLeft,
+                   int outerRight, bool mayNarrow, double tolerance, CellTraceResult& r, Vec3& gradient) const {
         // T along the ray: c0 + c1 t + c2 t^2.
         const Vec3 y0 = o - part.center, hd = m.times(d);
         const double c0 = part.value + part.gradient.dot(y0) + 0.5 * y0.dot(m.times(y0));
         const double c1 = part.gradient.dot(d) + y0.dot(hd), c2 = 0.5 * d.dot(hd);
-        const double e = m.valueError, slopeError = m.slopeError * d.norm();
+        const double slopeError = slopeErrorPerUnit * d.norm();
         auto model = [&](double t) { return c0 + t * (c1 + t * c2); };
         auto modelSlope = [&](double t) { return c1 + 2.0 * c2 * t; };
         double cuts[6] = {t0};
@@ -162,16 +196,26 @@ private:
                     return true;
                 continue;
             }
+            int left = k > 0 ? spans[k - 1].sign : outerLeft, right = k + 1 < count ? spans[k + 1].sign : outerRight;
             const double slopeA = modelSlope(s.a), slopeB = modelSlope(s.b);
             const double least = std::min(std::abs(slopeA), std::abs(slopeB)) - slopeError;
             if (!((slopeA > 0) == (slopeB > 0) && least > 0)) {
-                // Not proven monotone (a ray grazing the surface).
+                // Not proven monotone (a ray grazing the surface, or a loose
+                // model): nearer the centre, the errors may decide it.
+                if (mayNarrow) {
+                    const NearErrors near = nearErrors(part, m, o, d, s.a, s.b);
+                    if (near.value < 0.5 * e) {
+                        if (spansRoot(part, m, locals, o, d, s.a, s.b, near.value, near.slope, left, right, false,
+                                      tolerance, r, gradient))
+                            return true;
+                        continue;
+                    }
+                }
                 if (exactRoot(locals, o, d, s.a, s.b, tolerance, r, gradient)) return true;
                 continue;
             }
             // N is monotone over the span, |N'| >= least: one root at most,
             // where the signs at its ends differ.
-            int left = k > 0 ? spans[k - 1].sign : 0, right = k + 1 < count ? spans[k + 1].sign : 0;
             auto signAt = [&](double t) {
                 const Vec3 x = o + t * d;
                 if (lastSign_.field == field_->id() && lastSign_.point == x) return lastSign_.sign;
