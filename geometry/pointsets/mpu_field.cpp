@@ -22,13 +22,6 @@ void orthonormalFrame(const Vec3& n, Vec3& u, Vec3& v) {
 
 }  // namespace
 
-double MpuQuadric::evaluate(const Vec3& x, Vec3* gradient) const {
-    const Vec3 y = x - origin;
-    const Vec3 Ay = A * y;
-    if (gradient) *gradient = g + 2.0 * Ay;
-    return c0 + g.dot(y) + y.dot(Ay);
-}
-
 namespace {
 Interval square(Interval a) {
     const double lo2 = a.lo * a.lo, hi2 = a.hi * a.hi;

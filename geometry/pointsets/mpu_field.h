@@ -64,7 +64,13 @@ struct MpuQuadric {
     Vec3 g = Vec3::Zero();
     double c0 = 0;
 
-    double evaluate(const Vec3& x, Vec3* gradient) const;
+    /// Inline: a blend's sums and every model fit evaluate dozens per point.
+    double evaluate(const Vec3& x, Vec3* gradient) const {
+        const Vec3 y = x - origin;
+        const Vec3 Ay = A * y;
+        if (gradient) *gradient = g + 2.0 * Ay;
+        return c0 + g.dot(y) + y.dot(Ay);
+    }
     Interval range(const Box3& box) const;
     double gradientBound(const Box3& box) const;
 };
