@@ -437,7 +437,12 @@ uint32_t makeTransform(Compiler& c, JsonObjectReader& r, const LeafPlacement& p)
     const Mat3& a = affine.linear;
     const Vec3& translate = affine.translation;
     const Mat3 inverse = a.inverse();
+    // The smallest singular value. GCC 12 warns falsely that Eigen's
+    // fixed-size SVD may leave it uninitialised.
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
     const double sigma = Eigen::JacobiSVD<Mat3>(a).singularValues()(2);
+#pragma GCC diagnostic pop
     return c.operand(r, p.composed(inverse, -inverse * translate, sigma));
 }
 
