@@ -28,29 +28,16 @@ constexpr int kMaxSplits = 2;
 constexpr double kModelTolerance = 0.15;
 constexpr int kMaxModelSplits = 4;
 
-// A part: its box (in the leaf's frame, shrunk to where its model may hold
-// zero), its locals, and its model of N, fitted over the box it was carved
-// as (about that box's centre). The surface lies where |L| <= band, L the
-// model's tangent plane at the centre and band its error plus the reach of
-// its curvature: a slab a ray crosses in closed form, so rays that miss it
-// cost nothing more.
-struct MpuPart {
-    Box3 box;  ///< in the leaf's frame
-    uint32_t first = 0, count = 0;
-    Vec3 center = Vec3::Zero(), gradient = Vec3::Zero();
-    double value = 0.0, band = 0.0;
-    uint32_t model = 0;  ///< index into the tracer's models
-};
-
 // What a part's model adds to its centre, value and gradient (the model's
-// own, for parts with one): the Hessian's upper triangle (xx xy xz yy yz zz)
-// and the errors. Parts are many (up to a million for a 37k-vertex model):
-// nothing is stored twice.
+// own): the Hessian's upper triangle (xx xy xz yy yz zz) and the errors.
+// Parts are many (up to a million for a 37k-vertex model): nothing is
+// stored twice.
 struct PartModel {
-    double hessian[6];
-    double valueError, slopeError, hessianError;
-    double third, halfDiagonal;  ///< M3 and rho (see MpuNumeratorModel)
+    double hessian[6] = {};
+    double valueError = 0.0, slopeError = 0.0, hessianError = 0.0;
+    double third = 0.0, halfDiagonal = 0.0;  ///< M3 and rho (see MpuNumeratorModel)
 
+    PartModel() = default;
     explicit PartModel(const MpuNumeratorModel& m)
         : hessian{m.hessian(0, 0), m.hessian(0, 1), m.hessian(0, 2), m.hessian(1, 1), m.hessian(1, 2), m.hessian(2, 2)},
           valueError(m.valueError), slopeError(m.slopeError), hessianError(m.hessianError), third(m.third),
@@ -60,6 +47,21 @@ struct PartModel {
                 hessian[1] * v.x() + hessian[3] * v.y() + hessian[4] * v.z(),
                 hessian[2] * v.x() + hessian[4] * v.y() + hessian[5] * v.z()};
     }
+};
+
+// A part: its box (in the leaf's frame, shrunk to where its model may hold
+// zero), its locals, and its model of N, fitted over the box it was carved
+// as (about that box's centre). The surface lies where |L| <= band, L the
+// model's tangent plane at the centre and band its error plus the reach of
+// its curvature: a slab a ray crosses in closed form, so rays that miss it
+// cost nothing more. The model lives in the part: a ray that enters the band
+// reads it next to what it has just read.
+struct MpuPart {
+    Box3 box;  ///< in the leaf's frame
+    uint32_t first = 0, count = 0;
+    Vec3 center = Vec3::Zero(), gradient = Vec3::Zero();
+    double value = 0.0, band = 0.0;
+    PartModel model;
 };
 
 // Where a ray crosses a part's band, solving N exactly as a polynomial
@@ -73,9 +75,8 @@ struct PartModel {
 class MpuCellTracer final : public CellTracer {
 public:
     MpuCellTracer(std::shared_ptr<const MpuField> field, const LeafPlacement& placement, std::vector<MpuPart> parts,
-                  std::vector<uint32_t> locals, std::vector<PartModel> models)
-        : field_(std::move(field)), placement_(placement), parts_(std::move(parts)), locals_(std::move(locals)),
-          models_(std::move(models)) {}
+                  std::vector<uint32_t> locals)
+        : field_(std::move(field)), placement_(placement), parts_(std::move(parts)), locals_(std::move(locals)) {}
 
     CellTraceResult trace(uint32_t index, const Vec3& origin, const Vec3& direction, double t0, double t1,
                           const TraceSettings& settings) const override {
@@ -99,7 +100,7 @@ public:
         const std::span<const uint32_t> locals(locals_.data() + part.first, part.count);
         const double tolerance = settings.epsilon / direction.norm();
         Vec3 gradient;
-        const bool hit = modelledRoot(part, models_[part.model], locals, o, d, t0, t1, tolerance, r, gradient);
+        const bool hit = modelledRoot(part, part.model, locals, o, d, t0, t1, tolerance, r, gradient);
         if (!hit) return r;
         r.hit = true;
         r.gradientKnown = true;
@@ -301,7 +302,6 @@ private:
     LeafPlacement placement_;
     std::vector<MpuPart> parts_;
     std::vector<uint32_t> locals_;
-    std::vector<PartModel> models_;
 };
 
 thread_local MpuCellTracer::LastSign MpuCellTracer::lastSign_;
@@ -323,7 +323,6 @@ std::optional<CellAcceleration> MpuCellAccelerator::accelerate(const FieldProgra
 
     std::vector<MpuPart> parts;
     std::vector<uint32_t> locals, touching;
-    std::vector<PartModel> models;
     // A part over `b` whose locals are locals[first, first + count) (its
     // ancestor's list, shared by the parts carved from it): modelled where
     // its model is accurate enough, split while it is not; at the deepest
@@ -384,8 +383,7 @@ std::optional<CellAcceleration> MpuCellAccelerator::accelerate(const FieldProgra
         part.value = m.value;
         part.gradient = m.gradient;
         part.band = bandOf(m);
-        part.model = uint32_t(models.size());
-        models.emplace_back(m);
+        part.model = PartModel(m);
         part.first = first;
         part.count = count;
         parts.push_back(part);
@@ -410,8 +408,7 @@ std::optional<CellAcceleration> MpuCellAccelerator::accelerate(const FieldProgra
     std::vector<Box3> boxes;
     for (const MpuPart& part : parts) boxes.push_back(part.box);
     a.parts = worldPartBoxes(placement, boxes, box);
-    a.tracer = std::make_unique<MpuCellTracer>(mpu->field, placement, std::move(parts), std::move(locals),
-                                                     std::move(models));
+    a.tracer = std::make_unique<MpuCellTracer>(mpu->field, placement, std::move(parts), std::move(locals));
     return a;
 }
 
