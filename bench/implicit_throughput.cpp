@@ -136,7 +136,7 @@ int main(int argc, char** argv) {
     // cost), on this thread alone so that its counters see every step.
     {
         std::printf("\ntangle, 96x96 at 8 spp, path, 1 thread: preset domain +-3 against +-2.3 by hand\n");
-        for (const std::string path : {dir + "/tangle.json",
+        for (const std::string& path : {dir + "/tangle.json",
                                        std::string(ISOTRACE_SOURCE_DIR) + "/bench/scenes/tangle_tight_domain.json"}) {
             std::unique_ptr<Scene> scene = loadScene(path);
             scene->film.width = scene->film.height = 96;

@@ -80,7 +80,9 @@ TEST(BernsteinRoot, AgreesWithDenseSampling) {
         if (expected < 0) {
             // No sign change seen: a root pair between samples is possible but
             // then the polynomial is tiny there.
-            if (got) EXPECT_LT(std::abs(evaluatePolynomial<8>(p, *got)), 1e-6) << "trial " << trial;
+            if (got) {
+                EXPECT_LT(std::abs(evaluatePolynomial<8>(p, *got)), 1e-6) << "trial " << trial;
+            }
             continue;
         }
         ++withRoot;

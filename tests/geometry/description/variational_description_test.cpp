@@ -197,7 +197,9 @@ TEST(VariationalDescription, BlendKeepsTheConstraintsOutsideTheOtherOperands) {
             } else {
                 // Near the crease the blend may round off a little; well
                 // inside the other sphere it must be inside.
-                if (other->value(p) < -0.05) EXPECT_LT(blend.value(p), 0.0);
+                if (other->value(p) < -0.05) {
+                    EXPECT_LT(blend.value(p), 0.0);
+                }
                 ++dropped;
             }
         }

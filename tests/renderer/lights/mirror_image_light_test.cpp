@@ -194,7 +194,9 @@ TEST(MirrorImageLight, SamplingPassesChiSquareAgainstItsPdf) {
             EXPECT_NEAR((s.point - context.p).norm(), s.distance, 1e-9);
             const auto q = onLight(s.direction);
             EXPECT_TRUE(q.has_value());
-            if (q) EXPECT_NEAR(image.pdf(context, s.direction, *q, Vec3(0, -1, 0)), s.pdf, 1e-6 * s.pdf);
+            if (q) {
+                EXPECT_NEAR(image.pdf(context, s.direction, *q, Vec3(0, -1, 0)), s.pdf, 1e-6 * s.pdf);
+            }
             return s.direction;
         },
         [&](const Vec3& w) {

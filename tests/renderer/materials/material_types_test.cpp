@@ -207,11 +207,15 @@ TEST_P(EveryLight, SamplesAgreeWithPdf) {
         ASSERT_NEAR(ls.direction.norm(), 1.0, 1e-12);
         // A light that can light the point must have a chance to be chosen.
         const bool contributes = (ls.radiance > 0).any() && ls.pdf > 0 && (context.n.isZero() || context.n.dot(ls.direction) > 0);
-        if (contributes) EXPECT_GT(light.importance(context), 0.0) << "sample " << s;
+        if (contributes) {
+            EXPECT_GT(light.importance(context), 0.0) << "sample " << s;
+        }
         EXPECT_EQ(ls.isDelta, light.isDelta());
         if (light.isDelta()) continue;
         const Vec3 onLight = std::isfinite(ls.distance) ? ls.point : ls.direction;
-        if (std::isfinite(ls.distance)) EXPECT_LT((ls.point - (p + ls.distance * ls.direction)).norm(), 1e-9);
+        if (std::isfinite(ls.distance)) {
+            EXPECT_LT((ls.point - (p + ls.distance * ls.direction)).norm(), 1e-9);
+        }
         // Area lights in the catalog face down at y = 2: their normal is -y.
         EXPECT_NEAR(light.pdf(context, ls.direction, onLight, Vec3(0, -1, 0)), ls.pdf, 1e-9 * ls.pdf);
         EXPECT_GT(ls.radiance.maxCoeff(), 0.0);
