@@ -8,6 +8,20 @@ namespace isotrace::geometry {
 
 namespace {
 
+// Which of a local's pieces its combination takes where they have the
+// values v.
+int pieceTaken(const MpuLocal& l, const double* v) {
+    struct Valued {
+        double value;
+        int index;
+    };
+    const Valued at[3] = {{v[0], 0}, {l.count > 1 ? v[1] : 0.0, 1}, {l.count > 2 ? v[2] : 0.0, 2}};
+    return combineMpuPieces(
+               l, at, [](Valued a, Valued b) { return a.value >= b.value ? a : b; },
+               [](Valued a, Valued b) { return a.value <= b.value ? a : b; })
+        .index;
+}
+
 // The piece a local takes at the box's centre, and whether it takes it all
 // over the box center +- half (false where its pieces cross there: a sharp
 // local's crease).
@@ -42,16 +56,7 @@ PieceInEffect pieceInEffect(const MpuField& field, const MpuLocal& l, const Vec3
                                [&](Choice a, Choice b) { return pick(a, b, -1); })
                                .index;
     if (throughout >= 0) return {throughout, true};
-    struct Valued {
-        double value;
-        int index;
-    };
-    const Valued at[3] = {{v[0], 0}, {v[1], 1}, {v[2], 2}};
-    const int central = combineMpuPieces(
-                            l, at, [](Valued a, Valued b) { return a.value >= b.value ? a : b; },
-                            [](Valued a, Valued b) { return a.value <= b.value ? a : b; })
-                            .index;
-    return {central, false};
+    return {pieceTaken(l, v), false};
 }
 
 // The largest |d^2/dtau^2 w(x + tau u)| over unit u and distances r from
@@ -202,13 +207,15 @@ void setErrors(MpuNumeratorModel& m, const ErrorSums& sums, double rho) {
     const double third = sums.singleThird + sums.throughoutSharpThird + sums.creasedThird;
     // Rounding: exact sums are evaluated to about 1e-16 of their terms.
     const double rounding = 1e-12 * sums.scale;
-    m.valueError = (third * rho * rho * rho / 6.0 + sums.creaseValue) * (1 + 1e-9) + rounding;
-    m.slopeError = (third * rho * rho / 2.0 + sums.creaseSlope) * (1 + 1e-9) + rounding / std::max(rho, 1e-300);
+    const MpuTaylorRemainder remainder = mpuTaylorRemainder(third, rounding, rho, rho);
+    m.valueError = remainder.value + sums.creaseValue * (1 + 1e-9);
+    m.slopeError = remainder.slope + sums.creaseSlope * (1 + 1e-9);
     m.hessianError = sums.creaseValue > 0.0 || sums.creaseSlope > 0.0
                          ? std::numeric_limits<double>::infinity()
                          : third * rho * (1 + 1e-9) + rounding / std::max(rho * rho, 1e-300);
     m.third = third;
     m.halfDiagonal = rho;
+    m.rounding = rounding;
     m.singleThird = sums.singleThird;
     m.throughoutSharpThird = sums.throughoutSharpThird;
     m.scale = sums.scale;
@@ -269,16 +276,9 @@ MpuNumeratorModel mpuNumeratorModelWithin(const MpuField& field, const Box3& box
         const MpuQuadric* q = &field.pieces()[l.first];
         int piece = 0;
         if (l.count > 1) {
-            struct Valued {
-                double value;
-                int index;
-            };
-            Valued v[3];
-            for (int k = 0; k < l.count; ++k) v[k] = {q[k].evaluate(c, nullptr), k};
-            piece = combineMpuPieces(
-                        l, v, [](Valued a, Valued b) { return a.value >= b.value ? a : b; },
-                        [](Valued a, Valued b) { return a.value <= b.value ? a : b; })
-                        .index;
+            double v[3];
+            for (int k = 0; k < l.count; ++k) v[k] = q[k].evaluate(c, nullptr);
+            piece = pieceTaken(l, v);
         }
         Vec3 gq;
         const double qc = q[piece].evaluate(c, &gq);

@@ -23,6 +23,7 @@
 // their slopes') add to the errors: S - Q_p is always some Q_k - Q_p.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <span>
 
@@ -42,11 +43,11 @@ struct MpuNumeratorModel {
     /// Lipschitz (M3) where no crease crosses the box; infinite where one
     /// does.
     double hessianError = 0.0;
-    /// M3, the bound on N's third directional derivatives over the box, and
-    /// the box's half diagonal rho: valueError is M3 rho^3 / 6 and
-    /// slopeError M3 rho^2 / 2 (raised for rounding, plus the creases' share),
-    /// and within distance r of the centre M3 r^3 / 6 and M3 r^2 / 2 hold.
-    double third = 0.0, halfDiagonal = 0.0;
+    /// M3, the bound on N's third directional derivatives over the box, the
+    /// box's half diagonal rho and the sums' rounding: valueError and
+    /// slopeError are mpuTaylorRemainder at rho (plus the creases' share),
+    /// and within distance r of the centre the remainder at r holds.
+    double third = 0.0, halfDiagonal = 0.0, rounding = 0.0;
     /// What a model of a box inside this one takes over (see
     /// mpuNumeratorModelWithin): the shares of the bound on N's third
     /// derivatives over the box of the single-piece locals and of the sharp
@@ -65,6 +66,17 @@ struct MpuNumeratorModel {
         return value + gradient.dot(y) + 0.5 * y.dot(hy);
     }
 };
+
+/// Taylor's remainder of a model within distance r of its centre, given M3
+/// (third), the sums' rounding and the box's half diagonal rho: value
+/// M3 r^3 / 6, slope M3 r^2 / 2, each raised for rounding.
+struct MpuTaylorRemainder {
+    double value, slope;
+};
+inline MpuTaylorRemainder mpuTaylorRemainder(double third, double rounding, double r, double rho) {
+    constexpr double scale = 1 + 1e-9;
+    return {third * r * r * r / 6.0 * scale + rounding, third * r * r / 2.0 * scale + rounding / std::max(rho, 1e-300)};
+}
 
 /// The model of N over `box` from a list of locals that holds every one
 /// whose ball reaches the box (others listed are skipped). The box must lie

@@ -35,13 +35,13 @@ constexpr int kMaxModelSplits = 4;
 struct PartModel {
     double hessian[6] = {};
     double valueError = 0.0, slopeError = 0.0, hessianError = 0.0;
-    double third = 0.0, halfDiagonal = 0.0;  ///< M3 and rho (see MpuNumeratorModel)
+    double third = 0.0, halfDiagonal = 0.0, rounding = 0.0;  ///< see MpuNumeratorModel
 
     PartModel() = default;
     explicit PartModel(const MpuNumeratorModel& m)
         : hessian{m.hessian(0, 0), m.hessian(0, 1), m.hessian(0, 2), m.hessian(1, 1), m.hessian(1, 2), m.hessian(2, 2)},
           valueError(m.valueError), slopeError(m.slopeError), hessianError(m.hessianError), third(m.third),
-          halfDiagonal(m.halfDiagonal) {}
+          halfDiagonal(m.halfDiagonal), rounding(m.rounding) {}
     Vec3 times(const Vec3& v) const {
         return {hessian[0] * v.x() + hessian[1] * v.y() + hessian[2] * v.z(),
                 hessian[1] * v.x() + hessian[3] * v.y() + hessian[4] * v.z(),
@@ -142,12 +142,8 @@ private:
                                  double b) {
         if (!std::isfinite(m.hessianError)) return {m.valueError, m.slopeError};
         const double reach = std::max((o + a * d - part.center).norm(), (o + b * d - part.center).norm());
-        const double rho = m.halfDiagonal, scale = 1 + 1e-9;
-        // The rounding shares: what the errors hold beyond M3's.
-        const double valueRounding = std::max(0.0, m.valueError - m.third * rho * rho * rho / 6.0 * scale),
-                     slopeRounding = std::max(0.0, m.slopeError - m.third * rho * rho / 2.0 * scale);
-        return {std::min(m.valueError, m.third * reach * reach * reach / 6.0 * scale + valueRounding),
-                std::min(m.slopeError, m.third * reach * reach / 2.0 * scale + slopeRounding)};
+        const MpuTaylorRemainder near = mpuTaylorRemainder(m.third, m.rounding, reach, m.halfDiagonal);
+        return {std::min(m.valueError, near.value), std::min(m.slopeError, near.slope)};
     }
 
     // The first root in [t0, t1] on the model with value error e and slope
