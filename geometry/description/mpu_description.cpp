@@ -177,7 +177,7 @@ Json mpuFieldToJson(const MpuField& field, const MpuReport& report, const Json& 
     if (field.hasInterpolants()) {
         Json interpolants = Json::array();
         PositionTable table;
-        auto indices = [&](const std::vector<Vec3>& centers) {
+        auto indices = [&](const auto& centers) {
             std::vector<uint32_t> out;
             for (const Vec3& c : centers) out.push_back(table.indexOf(c));
             return out;

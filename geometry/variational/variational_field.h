@@ -10,11 +10,12 @@
 
 #include "geometry/bounding_box.h"
 #include "geometry/interval.h"
+#include "geometry/points_by_axis.h"
 
 namespace isotrace::geometry {
 
 struct VariationalField {
-    std::vector<Vec3> centers;           ///< value-constraint positions c_i
+    PointsByAxis centers;                ///< value-constraint positions c_i (by axis: the sums run in vector lanes)
     std::vector<double> weights;         ///< w_i
     std::vector<Vec3> gradientCenters;   ///< gradient-constraint positions c_k
     std::vector<Vec3> gradientWeights;   ///< b_k

@@ -354,7 +354,7 @@ std::optional<VariationalPatch> buildVariationalPatch(const VariationalField& fi
     thread_local Scratch scratch;
     const size_t n = field.centers.size();
     scratch.resize(n);
-    const double* c = field.centers.empty() ? nullptr : field.centers[0].data();
+    const double *cx = field.centers.x(), *cy = field.centers.y(), *cz = field.centers.z();
     const double* w = field.weights.data();
     // Sums that need no moment are taken in the same pass; one reciprocal
     // serves every power of 1 / r.
@@ -363,7 +363,7 @@ std::optional<VariationalPatch> buildVariationalPatch(const VariationalField& fi
         Scratch& q = scratch;
 #pragma omp simd reduction(+ : r3Sum, rSum, farInvRSum, remainderSum, magnitudeSum)
         for (size_t j = 0; j < n; ++j) {
-            const double dx = x0.x() - c[3 * j], dy = x0.y() - c[3 * j + 1], dz = x0.z() - c[3 * j + 2];
+            const double dx = x0.x() - cx[j], dy = x0.y() - cy[j], dz = x0.z() - cz[j];
             const double r = std::sqrt(dx * dx + dy * dy + dz * dz);
             const bool far = r >= nearRadius;
             const double wFar = far ? w[j] : 0.0;
