@@ -20,12 +20,13 @@ void boundsCallback(const RTCBoundsFunctionArguments* args) {
     args->bounds_o->upper_z = std::nextafter(float(box.upper.z()), INFINITY);
 }
 
-// Marches one cell for a hit in (tnear, tfar).
-TraceResult marchCell(const RTCRay& ray, const ImplicitSurface& surface, unsigned primID) {
+// Marches one cell for a hit in (tnear, tfar): the nearest, or for an
+// occlusion query any.
+TraceResult marchCell(const RTCRay& ray, const ImplicitSurface& surface, unsigned primID, bool anyHit) {
     if ((ray.mask & surface.rayMask()) == 0) return {};
     const Vec3 origin(ray.org_x, ray.org_y, ray.org_z);
     const Vec3 direction(ray.dir_x, ray.dir_y, ray.dir_z);
-    return surface.intersectCell(primID, origin, direction, ray.tnear, ray.tfar);
+    return surface.intersectCell(primID, origin, direction, ray.tnear, ray.tfar, anyHit);
 }
 
 // The candidate hit at t: object-space normal = field gradient, ids, and
@@ -74,7 +75,7 @@ void intersectCallback(const RTCIntersectFunctionNArguments* args) {
     if (!args->valid[0]) return;
     const auto& surface = *static_cast<const ImplicitSurface*>(args->geometryUserPtr);
     RTCRayHit* rayhit = reinterpret_cast<RTCRayHit*>(args->rayhit);
-    const TraceResult r = marchCell(rayhit->ray, surface, args->primID);
+    const TraceResult r = marchCell(rayhit->ray, surface, args->primID, false);
     if (!r.hit) return;
     RTCHit candidate = candidateHit(rayhit->ray, surface, args, r);
     if (offerToFilters(args, rayhit->ray, candidate, r.t, rtcFilterIntersection)) rayhit->hit = candidate;
@@ -85,7 +86,7 @@ void occludedCallback(const RTCOccludedFunctionNArguments* args) {
     if (!args->valid[0]) return;
     const auto& surface = *static_cast<const ImplicitSurface*>(args->geometryUserPtr);
     RTCRay* ray = reinterpret_cast<RTCRay*>(args->ray);
-    const TraceResult r = marchCell(*ray, surface, args->primID);
+    const TraceResult r = marchCell(*ray, surface, args->primID, true);
     if (!r.hit) return;
     RTCHit candidate = candidateHit(*ray, surface, args, r);
     // An accepted occluder ends traversal: Embree reads tfar = -inf as "hit".

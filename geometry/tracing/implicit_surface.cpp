@@ -229,7 +229,7 @@ size_t ImplicitSurface::acceleratedCellCount() const {
 }
 
 TraceResult ImplicitSurface::intersectCell(uint32_t index, const Vec3& origin, const Vec3& direction, double tNear,
-                                           double tFar) const {
+                                           double tFar, bool anyHit) const {
     const SurfaceCell& cell = cells_[index];
     double t0 = tNear, t1 = tFar;
     if (!clipRayToBox(cell.box, origin, direction, t0, t1)) return {};
@@ -238,7 +238,9 @@ TraceResult ImplicitSurface::intersectCell(uint32_t index, const Vec3& origin, c
     if (cell.tracer < 0) {
         r = sphereTrace(program, cell.lipschitz, origin, direction, t0, t1, settings_);
     } else {
-        const CellTraceResult a = tracers_[cell.tracer]->trace(cell.part, origin, direction, t0, t1, settings_);
+        TraceSettings settings = settings_;
+        settings.anyHit = anyHit;
+        const CellTraceResult a = tracers_[cell.tracer]->trace(cell.part, origin, direction, t0, t1, settings);
         r = a;
         if (!a.complete) {
             // The accelerator gave up: the general tracer settles the rest.

@@ -73,8 +73,9 @@ public:
     size_t acceleratedCellCount() const;
 
     /// Nearest hit in one cell for t in (tNear, tFar); counts its work.
-    TraceResult intersectCell(uint32_t cell, const Vec3& origin, const Vec3& direction, double tNear,
-                              double tFar) const;
+    /// With anyHit (occlusion), any hit in the segment (TraceSettings::anyHit).
+    TraceResult intersectCell(uint32_t cell, const Vec3& origin, const Vec3& direction, double tNear, double tFar,
+                              bool anyHit = false) const;
     /// Nearest hit over all cells without Embree (tests, tools): a linear scan.
     TraceResult intersect(const Vec3& origin, const Vec3& direction, double tNear, double tFar) const;
     /// Unit outward normal (normalised field gradient) at a point near the surface.

@@ -100,7 +100,7 @@ public:
         const std::span<const uint32_t> locals(locals_.data() + part.first, part.count);
         const double tolerance = settings.epsilon / direction.norm();
         Vec3 gradient;
-        const bool hit = modelledRoot(part, part.model, locals, o, d, t0, t1, tolerance, r, gradient);
+        const bool hit = modelledRoot(part, part.model, locals, o, d, t0, t1, tolerance, settings.anyHit, r, gradient);
         if (!hit) return r;
         r.hit = true;
         r.gradientKnown = true;
@@ -124,11 +124,15 @@ private:
 
     // The same through the part's model of N: spans where |T| exceeds its
     // error have T's sign; each span between is searched, in order.
+    // With anyHit (an occlusion query), a root proven between two signs is
+    // enough: it is reported halfway, with the model's gradient, and N is
+    // not evaluated to settle it.
     bool modelledRoot(const MpuPart& part, const PartModel& m, std::span<const uint32_t> locals, const Vec3& o,
-                      const Vec3& d, double t0, double t1, double tolerance, CellTraceResult& r,
+                      const Vec3& d, double t0, double t1, double tolerance, bool anyHit, CellTraceResult& r,
                       Vec3& gradient) const {
         const NearErrors whole = nearErrors(part, m, o, d, t0, t1);
-        return spansRoot(part, m, locals, o, d, t0, t1, whole.value, whole.slope, 0, 0, true, tolerance, r, gradient);
+        return spansRoot(part, m, locals, o, d, t0, t1, whole.value, whole.slope, 0, 0, true, tolerance, anyHit, r,
+                         gradient);
     }
 
     // The model's errors over the ray's segment [a, b]: within distance r of
@@ -154,13 +158,19 @@ private:
     // allowed and clearly smaller, before the exact search takes it.
     bool spansRoot(const MpuPart& part, const PartModel& m, std::span<const uint32_t> locals, const Vec3& o,
                    const Vec3& d, double t0, double t1, double e, double slopeErrorPerUnit, int outerLeft,
-                   int outerRight, bool mayNarrow, double tolerance, CellTraceResult& r, Vec3& gradient) const {
+                   int outerRight, bool mayNarrow, double tolerance, bool anyHit, CellTraceResult& r,
+                   Vec3& gradient) const {
         // T along the ray: c0 + c1 t + c2 t^2.
         const Vec3 y0 = o - part.center, hd = m.times(d);
         const double c0 = part.value + part.gradient.dot(y0) + 0.5 * y0.dot(m.times(y0));
         const double c1 = part.gradient.dot(d) + y0.dot(hd), c2 = 0.5 * d.dot(hd);
         const double slopeError = slopeErrorPerUnit * d.norm();
         auto model = [&](double t) { return c0 + t * (c1 + t * c2); };
+        auto rootBetween = [&](double a, double b) {
+            r.t = 0.5 * (a + b);
+            gradient = part.gradient + m.times(o + r.t * d - part.center);
+            return true;
+        };
         auto modelSlope = [&](double t) { return c1 + 2.0 * c2 * t; };
         double cuts[6] = {t0};
         int cutCount = 1;
@@ -189,7 +199,8 @@ private:
                 // Opposite proven signs side by side (the band between them
                 // lost to rounding): the exact search settles their meeting.
                 if (k > 0 && spans[k - 1].sign == -s.sign &&
-                    exactRoot(locals, o, d, spans[k - 1].a, s.b, tolerance, r, gradient))
+                    (anyHit ? rootBetween(spans[k - 1].a, s.b)
+                            : exactRoot(locals, o, d, spans[k - 1].a, s.b, tolerance, r, gradient)))
                     return true;
                 continue;
             }
@@ -203,7 +214,7 @@ private:
                     const NearErrors near = nearErrors(part, m, o, d, s.a, s.b);
                     if (near.value < 0.5 * e) {
                         if (spansRoot(part, m, locals, o, d, s.a, s.b, near.value, near.slope, left, right, false,
-                                      tolerance, r, gradient))
+                                      tolerance, anyHit, r, gradient))
                             return true;
                         continue;
                     }
@@ -229,6 +240,7 @@ private:
             }
             if (right == 0 && (right = signAt(s.b)) == 0) right = -left;  // the root is s.b itself
             if (left == right) continue;
+            if (anyHit) return rootBetween(s.a, s.b);
             // |N''| along the ray: T's, plus the Hessian's error.
             const double curvature = 2.0 * std::abs(c2) + m.hessianError * d.squaredNorm();
             if (settledRoot(locals, o, d, s.a, s.b, left, least, curvature, c0, c1, c2, tolerance, r, gradient))

@@ -31,6 +31,11 @@ struct TraceSettings {
     /// Steps go up to this multiple of the proven safe distance while each
     /// is justified after the fact (1: plain sphere tracing).
     double overRelaxation = 1.6;
+    /// An occlusion query: any root proven in the segment will do, at any t
+    /// within it, with an approximate gradient. Tracers that can prove a
+    /// sign change from their models then need no exact evaluation; the
+    /// others answer as for a nearest hit.
+    bool anyHit = false;
 };
 
 /// Marches origin + t * direction for t in [tStart, tEnd]. `lipschitz` must

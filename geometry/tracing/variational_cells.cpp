@@ -21,7 +21,8 @@ public:
         // The model holds inside its own box only, the surface lies in its
         // part (the world box Embree tests bounds it for identity placements).
         if (!placement_.identity && !clipRayToBox(parts_[part], o, d, t0, t1)) return {};
-        const PatchTraceResult p = tracePatch(model, *field_, o, d, t0, t1, settings.epsilon / direction.norm());
+        const PatchTraceResult p =
+            tracePatch(model, *field_, o, d, t0, t1, settings.epsilon / direction.norm(), settings.anyHit);
         CellTraceResult r;
         r.steps = p.steps + p.exactEvaluations;
         r.evaluations =

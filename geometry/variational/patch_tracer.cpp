@@ -53,7 +53,8 @@ struct Anchor {
 }  // namespace
 
 PatchTraceResult tracePatch(const VariationalPatch& patch, const VariationalField& field, const Vec3& origin,
-                            const Vec3& direction, double tStart, double tEnd, double minStep, int maxSteps) {
+                            const Vec3& direction, double tStart, double tEnd, double minStep, bool anyHit,
+                            int maxSteps) {
     PatchTraceResult result;
     const double speed = direction.norm();
     if (!(speed > 0) || !(tEnd >= tStart) || patch.holdsNoZero) return result;
@@ -81,6 +82,21 @@ PatchTraceResult tracePatch(const VariationalPatch& patch, const VariationalFiel
         result.t = t;
         result.gradient = gradient;
         return result;
+    };
+    // Any-hit: f has the sign `side` where the ray was last cleared; if the
+    // model proves the other sign at some t in the segment, a root lies
+    // between. The hit is reported halfway (strictly inside the segment),
+    // with the model's gradient there for a normal.
+    auto provenCrossing = [&](double t) {
+        if (side == 0 || !(t > tCleared && t <= tEnd)) return false;
+        const double model = patch.value(origin + t * direction);
+        return std::abs(model) > patch.valueError && signOf(model) == -side;
+    };
+    auto anyHitAt = [&](double t) {
+        const double between = 0.5 * (tCleared + t);
+        Vec3 gradient;
+        patch.valueAndGradient(origin + between * direction, gradient);
+        return hitAt(between, gradient);
     };
     // A sign change at an anchor at t: Newton from it, when the bound on
     // f'' along the bracket [tCleared, t] puts its root within a thousandth
@@ -139,7 +155,19 @@ PatchTraceResult tracePatch(const VariationalPatch& patch, const VariationalFiel
         // far better than its bound, so the anchor lands next to the hit
         // and certifies the rest of the way), else here.
         auto modelRoot = [&] { return model * modelSlope < 0 ? std::min(t - model / modelSlope, tEnd) : t; };
+        // Where an anchor would be made, an occlusion query first asks the
+        // model a little past its root: far enough that the value error
+        // cannot hide the other sign.
+        // Returns where, or NaN.
+        auto crossingAhead = [&] {
+            if (!anyHit || !(model * modelSlope < 0) || signOf(model) != side)
+                return std::numeric_limits<double>::quiet_NaN();
+            ++result.steps;
+            const double beyond = t - model / modelSlope + 2.0 * patch.valueError / std::abs(modelSlope);
+            return provenCrossing(beyond) ? beyond : std::numeric_limits<double>::quiet_NaN();
+        };
         if (sign == 0 && !anchor.made) {
+            if (const double beyond = crossingAhead(); !std::isnan(beyond)) return anyHitAt(beyond);
             const double tAnchor = modelRoot();
             anchorAt(tAnchor, origin + tAnchor * direction);
             continue;
@@ -157,6 +185,7 @@ PatchTraceResult tracePatch(const VariationalPatch& patch, const VariationalFiel
         }
         if (sign != 0 && side == 0) side = sign;
         else if (sign != 0 && sign != side) {
+            if (anyHit) return anyHitAt(t);
             const double newton = newtonFromAnchor(t, modelCurvature + errorCurvature);
             if (!std::isnan(newton)) return hitAt(newton, anchor.gradient);
             const double root = refineBracket(t);
@@ -191,6 +220,7 @@ PatchTraceResult tracePatch(const VariationalPatch& patch, const VariationalFiel
         // as the general sphere tracer's does. The anchor (made here if there
         // is none) tells the sign at its end.
         if (!anchor.made) {
+            if (const double beyond = crossingAhead(); !std::isnan(beyond)) return anyHitAt(beyond);
             const double tAnchor = modelRoot();
             anchorAt(tAnchor, origin + tAnchor * direction);
             continue;

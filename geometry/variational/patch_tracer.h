@@ -30,7 +30,9 @@ struct PatchTraceResult {
     bool complete = true;
     bool hit = false;
     double t = 0.0;
-    Vec3 gradient = Vec3::Zero();  ///< exact, at the last anchor (within resolution of the hit)
+    /// Exact, at the last anchor (within resolution of the hit); for an
+    /// any-hit query the model's where the model proved the hit.
+    Vec3 gradient = Vec3::Zero();
     int steps = 0;                 ///< model evaluations
     int exactEvaluations = 0;      ///< evaluations of the exact field
 };
@@ -39,7 +41,14 @@ struct PatchTraceResult {
 /// a segment inside the model's box. Marching never skips a piece of
 /// surface thicker than minStep (in t) along the ray, and brackets the hit
 /// to one step of minStep before the Newton step.
+///
+/// With anyHit (an occlusion query), a sign change the model proves is
+/// enough: the sign known where the ray was last cleared and the opposite
+/// sign the model proves a little past its own root mean a root lies
+/// between (f is continuous), so most hits need no exact evaluation; t is
+/// then that second point.
 PatchTraceResult tracePatch(const VariationalPatch& patch, const VariationalField& field, const Vec3& origin,
-                            const Vec3& direction, double tStart, double tEnd, double minStep, int maxSteps = 4000);
+                            const Vec3& direction, double tStart, double tEnd, double minStep, bool anyHit = false,
+                            int maxSteps = 4000);
 
 }  // namespace isotrace::geometry

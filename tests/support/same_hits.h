@@ -1,7 +1,8 @@
 // A surface traced through its cell accelerators (local models, exact
 // polynomial roots) against the same field marched by the general sphere
 // tracer: both must agree on every ray, primary and leaving the surface as
-// bounces and shadow rays do, on hit or miss, distance and normal.
+// bounces and shadow rays do, on hit or miss, distance and normal, and
+// occlusion queries (which may stop at any proven root) on hit or miss.
 #pragma once
 
 #include <gtest/gtest.h>
@@ -61,9 +62,14 @@ inline void expectSameHitsAsMarching(const geometry::FieldProgram& program, int 
         const auto ray = randomRayAt(fast.bounds(), rng);
         const auto a = fastScene.intersect(ray.origin, ray.direction), b = exactScene.intersect(ray.origin, ray.direction);
         ASSERT_EQ(a.hit, b.hit) << "ray " << i;
+        // Occlusion queries may settle on any proven root (TraceSettings::anyHit).
+        ASSERT_EQ(fastScene.occluded(ray.origin, ray.direction, 1e30), b.hit) << "ray " << i;
         if (!a.hit) continue;
         ++hits;
         ASSERT_NEAR(a.t, b.t, 1e-5 * size) << "ray " << i;
+        // ... and only within the segment asked about.
+        ASSERT_FALSE(fastScene.occluded(ray.origin, ray.direction, b.t - 1e-4 * size)) << "ray " << i;
+        ASSERT_TRUE(fastScene.occluded(ray.origin, ray.direction, b.t + 1e-4 * size)) << "ray " << i;
         // Normals come from the exact gradient at (or within resolution of) the hit.
         EXPECT_GT(a.normal.normalized().dot(b.normal.normalized()), minimumNormalCosine) << "ray " << i;
         // A ray leaving the surface into the outer hemisphere.
@@ -127,6 +133,7 @@ inline void expectSameHitsOnGrazingRays(const geometry::FieldProgram& program, i
         ++tried;
         const auto c = fastScene.intersect(o, d), e = exactScene.intersect(o, d);
         ASSERT_EQ(c.hit, e.hit) << "grazing ray " << tried << " at " << side / size << " of the diagonal";
+        ASSERT_EQ(fastScene.occluded(o, d, 1e30), e.hit) << "grazing ray " << tried << " (occlusion)";
         if (!c.hit) continue;
         ++hits;
         ASSERT_NEAR(c.t, e.t, 1e-5 * size) << "grazing ray " << tried;
