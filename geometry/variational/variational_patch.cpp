@@ -510,8 +510,12 @@ std::optional<VariationalPatch> buildVariationalPatch(const VariationalField& fi
     patch.curvature = std::sqrt(frobenius) + 6.0 * nearWeight * s + 9.0 * nearHermiteWeight;
     patch.lipschitz =
         polynomialGradient + patch.gradientError + 3.0 * nearWeight * s * s + 9.0 * nearHermiteWeight * s;
-    double polynomialSpread = 0.0;
-    for (int m = 1; m < M; ++m) polynomialSpread += std::abs(patch.coefficients[m]) * halfPower[m];
+    double polynomialSpread = 0.0, linearSpread = 0.0;
+    for (int m = 1; m < M; ++m) {
+        polynomialSpread += std::abs(patch.coefficients[m]) * halfPower[m];
+        const auto& e = table.exponents[m];
+        if (e[0] + e[1] + e[2] == 1) linearSpread += std::abs(patch.coefficients[m]) * halfPower[m];
+    }
     // Evaluating the model rounds each of its terms; a near term's two
     // parts are each at most |w| (r0 + s)^3.
     double nearMagnitude = 0.0;
@@ -526,6 +530,11 @@ std::optional<VariationalPatch> buildVariationalPatch(const VariationalField& fi
     patch.gradientNoise = 4.0 * patch.evaluationNoise / std::max(s, 1e-300);
     const double spread = polynomialSpread + nearWeight * s * s * s + 4.5 * nearHermiteWeight * s * s + patch.valueError;
     patch.range = {patch.coefficients[0] - spread, patch.coefficients[0] + spread};
+    // The same without the linear monomials, which the plane keeps exactly
+    // (a margin for rounding the plane's value along a ray).
+    patch.planeSlope = Vec3(patch.coefficients[table.index[1][0][0]], patch.coefficients[table.index[0][1][0]],
+                            patch.coefficients[table.index[0][0][1]]);
+    patch.planeBand = (spread - linearSpread) + 16.0 * unitRoundoff * (std::abs(patch.coefficients[0]) + linearSpread);
     patch.holdsNoZero = !patch.range.containsZero();
     return patch;
 }

@@ -78,6 +78,11 @@ struct VariationalPatch {
     /// Rounding in evaluating the model's gradient.
     double gradientNoise = 0.0;
     Interval range;              ///< of f over the box
+    /// The model's linear part at the expansion point, value + planeSlope .
+    /// (x - expansionPoint), and how far f may stray from it in the box:
+    /// rays that stay farther from that plane (in value) meet no surface.
+    Vec3 planeSlope = Vec3::Zero();
+    double planeBand = 0.0;
     /// |f| > 0 everywhere in the box (the model at the centre minus the
     /// gradient bound times the half-diagonal and the error): rays skip it.
     bool holdsNoZero = false;

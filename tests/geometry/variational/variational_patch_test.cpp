@@ -80,7 +80,8 @@ void expectExactAtTheExpansionPoint(const VariationalField& f, std::vector<Box3>
 
 // At random points of boxes on the surface, the model is within its stated
 // value, gradient and Hessian errors of the field, the field's gradient
-// within the model's bound, its value within the model's range.
+// within the model's bound, its value within the model's range and within
+// the band around the model's plane.
 void expectWithinStatedErrors(const VariationalField& f, unsigned seed) {
     std::mt19937 rng(seed);
     std::uniform_real_distribution<double> jitter(-1.0, 1.0);
@@ -104,6 +105,9 @@ void expectWithinStatedErrors(const VariationalField& f, unsigned seed) {
                 ASSERT_LE((gp - g).norm(), patch->gradientError) << "edge " << edge;
                 ASSERT_LE(g.norm(), patch->lipschitz) << "edge " << edge;
                 ASSERT_TRUE(patch->range.contains(v)) << "edge " << edge;
+                // Within the band around the model's plane (rays outside it skip the box).
+                const double plane = patch->coefficients[0] + patch->planeSlope.dot(x - patch->expansionPoint);
+                ASSERT_LE(std::abs(v - plane), patch->planeBand) << "edge " << edge;
                 // The anchor's first- and second-order predictions of e.
                 const double e = v - vp, distance = (x - a).norm();
                 ASSERT_LE(std::abs(e - ea), patch->gradientError * distance + 2 * patch->evaluationNoise);
