@@ -58,9 +58,11 @@ struct BernsteinRootStats {
 /// halving reaches `tolerance` with the sign unresolved (two roots closer
 /// than that, or a touching one), the piece's start is taken as a root, so
 /// a surface is never missed for a rounding of its coefficients.
+/// With anyRoot (an occlusion query), the middle of the first piece whose
+/// ends differ in sign: a root lies in it, found without refining.
 template <int Degree>
 std::optional<double> firstBernsteinRoot(const Monomials<Degree>& p, double a, double b, double tolerance,
-                                         BernsteinRootStats* stats = nullptr) {
+                                         BernsteinRootStats* stats = nullptr, bool anyRoot = false) {
     using Coefficients = std::array<double, Degree + 1>;
     struct Piece {
         double lo, hi;
@@ -84,6 +86,7 @@ std::optional<double> firstBernsteinRoot(const Monomials<Degree>& p, double a, d
         }
         if (allPositive || allNegative) continue;
         const bool endsDiffer = (c[0] < 0) != (c[Degree] < 0) || c[Degree] == 0.0;
+        if (anyRoot && endsDiffer) return c[Degree] == 0.0 ? piece.hi : 0.5 * (piece.lo + piece.hi);
         if (changes == 1 && endsDiffer) {
             const double fa = c[0], fb = c[Degree];
             if (fb == 0.0) return piece.hi;

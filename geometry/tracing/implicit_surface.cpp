@@ -235,16 +235,16 @@ TraceResult ImplicitSurface::intersectCell(uint32_t index, const Vec3& origin, c
     if (!clipRayToBox(cell.box, origin, direction, t0, t1)) return {};
     const FieldProgram& program = programs_[cell.program];
     TraceResult r;
+    TraceSettings settings = settings_;
+    settings.anyHit = anyHit;
     if (cell.tracer < 0) {
-        r = sphereTrace(program, cell.lipschitz, origin, direction, t0, t1, settings_);
+        r = sphereTrace(program, cell.lipschitz, origin, direction, t0, t1, settings);
     } else {
-        TraceSettings settings = settings_;
-        settings.anyHit = anyHit;
         const CellTraceResult a = tracers_[cell.tracer]->trace(cell.part, origin, direction, t0, t1, settings);
         r = a;
         if (!a.complete) {
             // The accelerator gave up: the general tracer settles the rest.
-            const TraceResult rest = sphereTrace(program, cell.lipschitz, origin, direction, a.t, a.restEnd, settings_);
+            const TraceResult rest = sphereTrace(program, cell.lipschitz, origin, direction, a.t, a.restEnd, settings);
             r.hit = rest.hit;
             r.t = rest.t;
             r.steps += rest.steps;

@@ -133,7 +133,7 @@ public:
         }
         BernsteinRootStats stats;
         const auto s = firstBernsteinRoot<Degree>(ray.p, t0 - ray.expandedAt, t1 - ray.expandedAt,
-                                                  settings.epsilon / direction.norm(), &stats);
+                                                  settings.epsilon / direction.norm(), &stats, settings.anyHit);
         r.steps = 1 + stats.subdivisions;
         r.evaluations = uint64_t(r.steps + stats.evaluations);
         if (!s) return r;

@@ -85,6 +85,8 @@ TraceResult sphereTrace(const FieldProgram& field, double lipschitz, const Vec3&
         }
         if (fNext == 0.0) return finish(true, tNext);
         if (differentSigns(f, fNext)) {
+            // An occlusion query needs no more than the bracket.
+            if (settings.anyHit) return finish(true, 0.5 * (t + tNext));
             const double root = refineRoot(field, origin, direction, t, f, tNext, fNext, tolerance, &steps);
             return finish(true, root);
         }

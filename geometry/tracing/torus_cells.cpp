@@ -18,7 +18,8 @@ public:
         double tc;
         const Monomials<4> quartic = torusQuarticAlongRay(shape_, o, D, tc);
         BernsteinRootStats stats;
-        const auto s = firstBernsteinRoot<4>(quartic, t0 - tc, t1 - tc, settings.epsilon / direction.norm(), &stats);
+        const auto s =
+            firstBernsteinRoot<4>(quartic, t0 - tc, t1 - tc, settings.epsilon / direction.norm(), &stats, settings.anyHit);
         r.steps = 1 + stats.subdivisions;
         r.evaluations = uint64_t(r.steps + stats.evaluations);
         if (!s) return r;

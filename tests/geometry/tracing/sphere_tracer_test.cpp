@@ -209,6 +209,15 @@ TEST_P(NoFalseMisses, AgreesWithIntervalBisection) {
             ++hits;
             ASSERT_NEAR(got.t, expected.t, 1e-5 * size) << GetParam().name << " ray " << i;
         }
+        // Occlusion queries stop at any proven root (TraceSettings::anyHit),
+        // and only within the segment asked about: every fourth ray.
+        if (i % 4 == 0) {
+            ASSERT_EQ(scene.occluded(ray.origin, ray.direction, 1e30), expected.hit) << GetParam().name << " ray " << i;
+            if (expected.hit) {
+                ASSERT_FALSE(scene.occluded(ray.origin, ray.direction, expected.t - 1e-4 * size))
+                    << GetParam().name << " ray " << i;
+            }
+        }
     }
     EXPECT_GT(hits, 100) << GetParam().name;
 }
