@@ -44,10 +44,11 @@ public:
     const double* y() const { return y_.data(); }
     const double* z() const { return z_.data(); }
 
-    /// Iterates points by value (there is no Vec3 in memory to refer to).
+    /// Iterates points by value (there is no Vec3 in memory to refer to,
+    /// so it is an input iterator only).
     class const_iterator {
     public:
-        using iterator_category = std::forward_iterator_tag;
+        using iterator_category = std::input_iterator_tag;
         using value_type = Vec3;
         using difference_type = std::ptrdiff_t;
         using pointer = void;
@@ -72,8 +73,6 @@ public:
     };
     const_iterator begin() const { return {this, 0}; }
     const_iterator end() const { return {this, size()}; }
-
-    std::vector<Vec3> toVector() const { return std::vector<Vec3>(begin(), end()); }
 
 private:
     void assign(const std::vector<Vec3>& points) {
