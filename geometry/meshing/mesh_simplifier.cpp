@@ -77,7 +77,7 @@ struct Worker {
     std::priority_queue<Candidate, std::vector<Candidate>, std::greater<Candidate>> queue;
     std::vector<uint32_t> ringU, kept;
     uint32_t generation = 0;  ///< the last mark this worker gave a vertex
-    std::vector<std::pair<double, Vec3>> centroids;  ///< (how far it moved², centroid) of each new face
+    std::vector<Vec3> centroids;  ///< of each new face, those that moved farthest first
 
     void sortInitial() {
         std::sort(initial.begin(), initial.end(), [](const Candidate& a, const Candidate& b) { return a.cost < b.cost; });
@@ -426,10 +426,10 @@ private:
         for (uint32_t f : facesOf_[far]) {
             const auto& t = mesh_.triangles[f];
             if (t[0] == other || t[1] == other || t[2] == other) continue;  // disappears
-            Vec3 centroid = p;
-            for (uint32_t w : t)
-                if (w != far) centroid += mesh_.vertices[w];
-            return distanceToSurface(centroid / 3.0) > options_.maxDistance;
+            // Summed as collapseIsValid sums it, so both see the same point.
+            std::array<Vec3, 3> after;
+            for (int k = 0; k < 3; ++k) after[k] = t[k] == far ? p : mesh_.vertices[t[k]];
+            return distanceToSurface((after[0] + after[1] + after[2]) / 3.0) > options_.maxDistance;
         }
         return false;
     }
@@ -460,7 +460,11 @@ private:
         double worstBefore = 0.0, worstAfter = 0.0;
         auto& centroids = worker.centroids;
         centroids.clear();
-        for (uint32_t w : {u, v}) {
+        // Every face of one end moves its centroid by a third of that end's
+        // move: the faces of the end that moves farther come first, as the
+        // likeliest to leave the tolerance.
+        const bool uMovesFarther = (p - mesh_.vertices[u]).squaredNorm() >= (p - mesh_.vertices[v]).squaredNorm();
+        for (uint32_t w : {uMovesFarther ? u : v, uMovesFarther ? v : u}) {
             for (uint32_t f : facesOf_[w]) {
                 const auto& t = mesh_.triangles[f];
                 const bool hasU = t[0] == u || t[1] == u || t[2] == u;
@@ -481,16 +485,12 @@ private:
                 // triangleAspectRatio, with the cross product above
                 const double longest = std::max({e0.squaredNorm(), e1.squaredNorm(), e2.squaredNorm()});
                 worstAfter = std::max(worstAfter, longest / area2 * (std::sqrt(3.0) / 2.0));
-                const Vec3 centroid = (after[0] + after[1] + after[2]) / 3.0;
-                // The face that moved most is the likeliest to leave the
-                // tolerance: ask it first.
-                centroids.push_back({(centroid - (before[0] + before[1] + before[2]) / 3.0).squaredNorm(), centroid});
+                centroids.push_back((after[0] + after[1] + after[2]) / 3.0);
             }
         }
         if (worstAfter > options_.maxAspectRatio && !(worstAfter < worstBefore)) return false;
-        std::sort(centroids.begin(), centroids.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
-        for (const auto& c : centroids)
-            if (distanceToSurface(c.second) > options_.maxDistance) return false;
+        for (const Vec3& c : centroids)
+            if (distanceToSurface(c) > options_.maxDistance) return false;
         return true;
     }
 
