@@ -8,6 +8,7 @@
 #include <memory>
 #include <numbers>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "renderer/scene.h"
@@ -24,6 +25,23 @@ inline double medianSeconds(int runs, const std::function<void()>& work) {
     }
     std::sort(times.begin(), times.end());
     return times[times.size() / 2];
+}
+
+/// Medians of two pieces of work run alternately: a ratio of the two then
+/// sees the same drift of a shared machine.
+inline std::pair<double, double> interleavedMedianSeconds(int runs, const std::function<void()>& first,
+                                                          const std::function<void()>& second) {
+    std::vector<double> a, b;
+    for (int i = 0; i < runs; ++i) {
+        for (auto [work, times] : {std::pair{&first, &a}, std::pair{&second, &b}}) {
+            const auto start = std::chrono::steady_clock::now();
+            (*work)();
+            times->push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+        }
+    }
+    std::sort(a.begin(), a.end());
+    std::sort(b.begin(), b.end());
+    return {a[a.size() / 2], b[b.size() / 2]};
 }
 
 /// A file of this name in the system's temporary folder (benches' inputs made on the fly).

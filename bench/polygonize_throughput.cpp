@@ -39,17 +39,19 @@ int main() {
         MarchingCubesOptions o;
         o.resolution = 256;
         o.threads = 2;
-        IndexedMesh mc;
-        const double seconds = bench::medianSeconds(3, [&] { mc = marchingCubes(e.field, e.field.bounds(), o); });
+        IndexedMesh mc = marchingCubes(e.field, e.field.bounds(), o);
         const double target = measureAccuracy(mc, e.field).maxCentroidDistance;
-        // Adaptive: feature vertices, then simplification to the same bound.
+        // Adaptive: feature vertices, then simplification to the same bound;
+        // timed alternately with marching cubes (medians of 5 each).
         IndexedMesh adaptive;
-        const double adaptiveSeconds = bench::medianSeconds(3, [&] {
-            MarchingCubesOptions sharp = o;
-            sharp.sharpFeatures = true;
-            adaptive = marchingCubes(e.field, e.field.bounds(), sharp);
-            simplifyMesh(adaptive, e.field, {.maxDistance = target, .threads = 2});
-        });
+        const auto [seconds, adaptiveSeconds] = bench::interleavedMedianSeconds(
+            5, [&] { mc = marchingCubes(e.field, e.field.bounds(), o); },
+            [&] {
+                MarchingCubesOptions sharp = o;
+                sharp.sharpFeatures = true;
+                adaptive = marchingCubes(e.field, e.field.bounds(), sharp);
+                simplifyMesh(adaptive, e.field, {.maxDistance = target, .threads = 2});
+            });
         const MeshAccuracy mcQuality = measureAccuracy(mc, e.field), adaptiveQuality = measureAccuracy(adaptive, e.field);
         std::printf("%-16s %8.3fs %11zu %12.2f %14.2e %12zu %10.3f %7.3fs %7.2fx   (adaptive max distance %.2e)\n", e.name,
                     seconds, mc.triangles.size(), mc.triangles.size() / seconds / 1e6, target, adaptive.triangles.size(),
