@@ -86,14 +86,10 @@ public:
         if (!placement_.identity && !clipRayToBox(part.box, o, d, t0, t1)) return {};
         // Where the ray is within the band of the plane: |alpha + beta t| <= band.
         const double alpha = part.value + part.gradient.dot(o - part.center), beta = part.gradient.dot(d);
-        if (std::abs(beta) > 0) {
-            double ta = (-part.band - alpha) / beta, tb = (part.band - alpha) / beta;
-            if (ta > tb) std::swap(ta, tb);
-            t0 = std::max(t0, ta);
-            t1 = std::min(t1, tb);
-        } else if (std::abs(alpha) > part.band) {
-            return {};
-        }
+        double enter, leave;
+        if (!raySlabSpan(alpha, beta, part.band, enter, leave)) return {};
+        t0 = std::max(t0, enter);
+        t1 = std::min(t1, leave);
         CellTraceResult r;
         r.steps = 1;
         if (!(t1 >= t0)) return r;

@@ -6,7 +6,9 @@
 // slow, robust reference (and the fallback when a march runs out of steps).
 #pragma once
 
+#include <cmath>
 #include <cstdint>
+#include <limits>
 
 #include "geometry/field_program.h"
 
@@ -55,5 +57,19 @@ double refineRoot(const FieldProgram& field, const Vec3& origin, const Vec3& dir
 
 /// Entry and exit parameters of a ray in a box (empty when tEnter > tExit).
 bool clipRayToBox(const Box3& box, const Vec3& origin, const Vec3& direction, double& tEnter, double& tExit);
+
+/// Where a ray is within a slab around a plane: the span [enter, leave] of t
+/// with |alpha + beta t| <= band (the plane's value along the ray); the whole
+/// line when beta is 0 and |alpha| <= band; false when never.
+inline bool raySlabSpan(double alpha, double beta, double band, double& enter, double& leave) {
+    if (beta == 0) {
+        enter = -std::numeric_limits<double>::infinity();
+        leave = std::numeric_limits<double>::infinity();
+        return std::abs(alpha) <= band;
+    }
+    enter = (-std::copysign(band, beta) - alpha) / beta;
+    leave = (std::copysign(band, beta) - alpha) / beta;
+    return true;
+}
 
 }  // namespace isotrace::geometry

@@ -26,17 +26,12 @@ public:
         // part do), and the march can end where the ray leaves the band. Its
         // start stays, so that the sign there is proven before any anchor.
         const double alpha = model.coefficients[0] + model.planeSlope.dot(o - model.expansionPoint);
-        const double beta = model.planeSlope.dot(d), band = model.planeBand;
-        if (beta != 0) {
-            // Widened for rounding in t (relative to t: a far origin).
-            const double slack = 1e-12 * (std::abs(t0) + std::abs(t1));
-            const double enter = (-std::copysign(band, beta) - alpha) / beta - slack,
-                         leave = (std::copysign(band, beta) - alpha) / beta + slack;
-            if (!(leave >= t0 && enter <= t1)) return {};
-            t1 = std::min(t1, leave);
-        } else if (!(std::abs(alpha) <= band)) {
-            return {};
-        }
+        double enter, leave;
+        if (!raySlabSpan(alpha, model.planeSlope.dot(d), model.planeBand, enter, leave)) return {};
+        // Widened for rounding in t (relative to t: a far origin).
+        const double slack = 1e-12 * (std::abs(t0) + std::abs(t1));
+        if (!(leave + slack >= t0 && enter - slack <= t1)) return {};
+        t1 = std::min(t1, leave + slack);
         const PatchTraceResult p =
             tracePatch(model, *field_, o, d, t0, t1, settings.epsilon / direction.norm(), settings.anyHit);
         CellTraceResult r;
