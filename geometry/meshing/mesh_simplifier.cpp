@@ -420,9 +420,15 @@ private:
     }
     static constexpr double kLikelyTooFar = 0.25;
 
+    // The ends of u-v, the one that moves farther to p first: every face of
+    // one end moves its centroid by a third of that end's move.
+    std::array<uint32_t, 2> byMove(uint32_t u, uint32_t v, const Vec3& p) const {
+        if ((p - mesh_.vertices[u]).squaredNorm() >= (p - mesh_.vertices[v]).squaredNorm()) return {u, v};
+        return {v, u};
+    }
+
     bool farthestFaceLeavesTolerance(uint32_t u, uint32_t v, const Vec3& p) const {
-        const uint32_t far = (p - mesh_.vertices[u]).squaredNorm() >= (p - mesh_.vertices[v]).squaredNorm() ? u : v;
-        const uint32_t other = far == u ? v : u;
+        const auto [far, other] = byMove(u, v, p);
         for (uint32_t f : facesOf_[far]) {
             const auto& t = mesh_.triangles[f];
             if (t[0] == other || t[1] == other || t[2] == other) continue;  // disappears
@@ -460,11 +466,9 @@ private:
         double worstBefore = 0.0, worstAfter = 0.0;
         auto& centroids = worker.centroids;
         centroids.clear();
-        // Every face of one end moves its centroid by a third of that end's
-        // move: the faces of the end that moves farther come first, as the
+        // The faces of the end that moves farther come first, as the
         // likeliest to leave the tolerance.
-        const bool uMovesFarther = (p - mesh_.vertices[u]).squaredNorm() >= (p - mesh_.vertices[v]).squaredNorm();
-        for (uint32_t w : {uMovesFarther ? u : v, uMovesFarther ? v : u}) {
+        for (uint32_t w : byMove(u, v, p)) {
             for (uint32_t f : facesOf_[w]) {
                 const auto& t = mesh_.triangles[f];
                 const bool hasU = t[0] == u || t[1] == u || t[2] == u;
