@@ -87,11 +87,6 @@ PatchTraceResult tracePatch(const VariationalPatch& patch, const VariationalFiel
     // model proves the other sign at some t in the segment, a root lies
     // between. The hit is reported halfway (strictly inside the segment),
     // with the model's gradient there for a normal.
-    auto provenCrossing = [&](double t) {
-        if (side == 0 || !(t > tCleared && t <= tEnd)) return false;
-        const double model = patch.value(origin + t * direction);
-        return std::abs(model) > patch.valueError && signOf(model) == -side;
-    };
     auto anyHitAt = [&](double t) {
         const double between = 0.5 * (tCleared + t);
         Vec3 gradient;
@@ -156,15 +151,16 @@ PatchTraceResult tracePatch(const VariationalPatch& patch, const VariationalFiel
         // and certifies the rest of the way), else here.
         auto modelRoot = [&] { return model * modelSlope < 0 ? std::min(t - model / modelSlope, tEnd) : t; };
         // Where an anchor would be made, an occlusion query first asks the
-        // model a little past its root: far enough that the value error
-        // cannot hide the other sign.
-        // Returns where, or NaN.
+        // model a little past its root, far enough that the value error
+        // cannot hide the other sign: where it proves it, or NaN.
         auto crossingAhead = [&] {
-            if (!anyHit || !(model * modelSlope < 0) || signOf(model) != side)
-                return std::numeric_limits<double>::quiet_NaN();
-            ++result.steps;
+            constexpr double none = std::numeric_limits<double>::quiet_NaN();
+            if (!anyHit || side == 0 || !(model * modelSlope < 0) || signOf(model) != side) return none;
             const double beyond = t - model / modelSlope + 2.0 * patch.valueError / std::abs(modelSlope);
-            return provenCrossing(beyond) ? beyond : std::numeric_limits<double>::quiet_NaN();
+            if (!(beyond > tCleared && beyond <= tEnd)) return none;
+            ++result.steps;
+            const double there = patch.value(origin + beyond * direction);
+            return std::abs(there) > patch.valueError && signOf(there) == -side ? beyond : none;
         };
         if (sign == 0 && !anchor.made) {
             if (const double beyond = crossingAhead(); !std::isnan(beyond)) return anyHitAt(beyond);
