@@ -5,8 +5,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <queue>
 
+#include "geometry/meshing/cost_buckets.h"
 #include "geometry/meshing/mesh_analysis.h"
 
 namespace isotrace::geometry {
@@ -61,7 +61,6 @@ struct Candidate {
     float cost;
     uint32_t u, v;
     uint32_t stamps;
-    bool operator>(const Candidate& o) const { return cost > o.cost; }
 };
 
 constexpr uint32_t kAnyBlock = UINT32_MAX;
@@ -70,30 +69,10 @@ constexpr uint32_t kAnyBlock = UINT32_MAX;
 // collapses only edges whose surrounding faces all lie in its block.
 struct Worker {
     uint32_t block = kAnyBlock;
-    // The first candidates, sorted once (cheaper than as many heap pops),
-    // and the heap of those queued after collapses; pop() merges the two.
-    std::vector<Candidate> initial;
-    size_t nextInitial = 0;
-    std::priority_queue<Candidate, std::vector<Candidate>, std::greater<Candidate>> queue;
+    CostBuckets<Candidate> queue;
     std::vector<uint32_t> ringU, kept;
     uint32_t generation = 0;  ///< the last mark this worker gave a vertex
     std::vector<Vec3> centroids;  ///< of each new face, those that moved farthest first
-
-    void sortInitial() {
-        std::sort(initial.begin(), initial.end(), [](const Candidate& a, const Candidate& b) { return a.cost < b.cost; });
-    }
-
-    bool pop(Candidate& c) {
-        if (nextInitial < initial.size() && (queue.empty() || !(initial[nextInitial] > queue.top()))) {
-            c = initial[nextInitial++];
-        } else if (!queue.empty()) {
-            c = queue.top();
-            queue.pop();
-        } else {
-            return false;
-        }
-        return true;
-    }
 };
 
 // Blocks hold about this many vertices (up to 4 x 4 x 4 of them): enough
@@ -144,9 +123,8 @@ public:
                         }
                         neighbours(u, worker.ringU);
                         for (uint32_t w : worker.ringU)
-                            if (interior_[w] && (!seed[w] || u < w)) push(u, w, worker.initial);
+                            if (interior_[w] && (!seed[w] || u < w)) push(worker, u, w);
                     }
-                    worker.sortInitial();
                     collapses[b] = drain(worker);
                 });
             });
@@ -159,9 +137,8 @@ public:
             if (!seed[u] || removedVertex_[u]) continue;
             neighbours(u, whole.ringU);
             for (uint32_t w : whole.ringU)
-                if (!seed[w] || u < w) push(u, w, whole.initial);
+                if (!seed[w] || u < w) push(whole, u, w);
         }
-        whole.sortInitial();
         total += drain(whole);
         total += removeSlivers(whole);
         arena.execute([&] { compact(); });
@@ -233,7 +210,7 @@ private:
     size_t drain(Worker& worker) {
         size_t collapses = 0;
         Candidate c;
-        while (worker.pop(c)) {
+        while (worker.queue.pop(c)) {
             if (removedVertex_[c.u] || removedVertex_[c.v] || stamp_[c.u] + stamp_[c.v] != c.stamps) continue;
             if (!ownsNeighbourhood(worker, c.u, c.v)) continue;
             Vec3 position;
@@ -553,9 +530,6 @@ private:
         if (Candidate c; candidate(a, b, c)) worker.queue.push(c);
     }
 
-    void push(uint32_t a, uint32_t b, std::vector<Candidate>& list) const {
-        if (Candidate c; candidate(a, b, c)) list.push_back(c);
-    }
 
     // Drops removed faces and vertices; normals from the field, in parallel
     // (called inside the task arena).

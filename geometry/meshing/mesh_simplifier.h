@@ -1,10 +1,11 @@
 // Error-bounded simplification: the adaptive half of polygonization.
 //
-// Edge collapses ordered by quadric error (Garland and Heckbert), each kept
-// only if (1) the link condition holds, so the mesh stays 2-manifold and
-// keeps its genus, (2) no face turns over, and (3) the new vertex and the
-// centroids of the new faces lie within `maxDistance` of the surface,
-// measured on the field itself (|f| / |grad f|). New vertices are placed at
+// Edge collapses ordered by quadric error (Garland and Heckbert; to within
+// about 6%, see CostBuckets), each kept only if (1) the link condition
+// holds, so the mesh stays 2-manifold and keeps its genus, (2) no face
+// turns over, and (3) the new vertex and the centroids of the new faces lie
+// within `maxDistance` of the surface, measured on the field itself
+// (|f| / |grad f|). New vertices are placed at
 // the quadric minimum and projected onto the surface along the gradient, so
 // flat regions coarsen while edges and corners (where quadrics are sharp)
 // stay.
