@@ -1,6 +1,7 @@
 #include "geometry/meshing/mesh_simplifier.h"
 
 #include <tbb/parallel_for.h>
+#include <tbb/enumerable_thread_specific.h>
 #include <tbb/task_arena.h>
 
 #include <algorithm>
@@ -104,6 +105,7 @@ public:
         // only edges near the walls of both grids wait for the whole mesh.
         std::vector<uint8_t> seed(mesh_.vertices.size(), 1);
         const BlockGrid grid = blockGrid();
+        tbb::enumerable_thread_specific<Worker> workers;
         for (double shift : {0.0, 0.5}) {
             std::vector<std::vector<uint32_t>> seedsOf;
             arena.execute([&] { seedsOf = assignBlocks(grid, shift, seed); });
@@ -114,7 +116,9 @@ public:
             // so no two workers touch the same data.
             arena.execute([&] {
                 tbb::parallel_for(size_t(0), seedsOf.size(), [&](size_t b) {
-                    Worker worker;
+                    // One worker per thread, reused: its queue's buckets
+                    // keep their capacity from block to block.
+                    Worker& worker = workers.local();
                     worker.block = uint32_t(b);
                     for (uint32_t u : seedsOf[b]) {
                         if (!interior_[u]) {
