@@ -219,8 +219,9 @@ private:
             if (!ownsNeighbourhood(worker, c.u, c.v)) continue;
             Vec3 position;
             if (!placement(c.u, c.v, position)) continue;
-            if (likelyTooFar(c) && farthestFaceLeavesTolerance(c.u, c.v, position)) continue;
-            if (!collapseIsValid(worker, c.u, c.v, position)) continue;
+            const FirstFace first = firstFaceDistance(c.u, c.v, position);
+            if (first == FirstFace::Leaves) continue;
+            if (!collapseIsValid(worker, c.u, c.v, position, first == FirstFace::Within ? 1 : 0)) continue;
             collapse(worker, c.u, c.v, position);
             ++collapses;
         }
@@ -387,20 +388,6 @@ private:
         out.erase(std::unique(out.begin(), out.end()), out.end());
     }
 
-    // A collapse whose quadric error is near the tolerance squared (per unit
-    // of its planes' area) mostly fails the distance test, which
-    // collapseIsValid asks last, after every geometric test. Asking it first
-    // for one face of the end that moves farthest (the faces whose
-    // centroids move most) gives the same answer and most often saves the
-    // rest: on the sphere, 80% of the collapses tried fail there.
-    bool likelyTooFar(const Candidate& c) const {
-        const Quadric& a = quadric_[c.u];
-        const Quadric& b = quadric_[c.v];
-        const double area = a.a00 + a.a11 + a.a22 + b.a00 + b.a11 + b.a22;
-        return c.cost > kLikelyTooFar * area * options_.maxDistance * options_.maxDistance;
-    }
-    static constexpr double kLikelyTooFar = 0.25;
-
     // The ends of u-v, the one that moves farther to p first: every face of
     // one end moves its centroid by a third of that end's move.
     std::array<uint32_t, 2> byMove(uint32_t u, uint32_t v, const Vec3& p) const {
@@ -408,7 +395,13 @@ private:
         return {v, u};
     }
 
-    bool farthestFaceLeavesTolerance(uint32_t u, uint32_t v, const Vec3& p) const {
+    enum class FirstFace { Leaves, Within, None };
+
+    // The distance test of the first new face of the end that moves farther
+    // (the faces whose centroids move most), asked before any other test:
+    // on the sphere, most collapses tried fail there. It is the face
+    // collapseIsValid lists first, so that one need not ask it again.
+    FirstFace firstFaceDistance(uint32_t u, uint32_t v, const Vec3& p) const {
         const auto [far, other] = byMove(u, v, p);
         for (uint32_t f : facesOf_[far]) {
             const auto& t = mesh_.triangles[f];
@@ -416,12 +409,15 @@ private:
             // Summed as collapseIsValid sums it, so both see the same point.
             std::array<Vec3, 3> after;
             for (int k = 0; k < 3; ++k) after[k] = t[k] == far ? p : mesh_.vertices[t[k]];
-            return distanceToSurface((after[0] + after[1] + after[2]) / 3.0) > options_.maxDistance;
+            return distanceToSurface((after[0] + after[1] + after[2]) / 3.0) > options_.maxDistance ? FirstFace::Leaves
+                                                                                                   : FirstFace::Within;
         }
-        return false;
+        return FirstFace::None;
     }
 
-    bool collapseIsValid(Worker& worker, uint32_t u, uint32_t v, const Vec3& p) const {
+    // `checkedCentroids`: how many of the new faces' centroids (in the order
+    // below) are known to be within the tolerance already.
+    bool collapseIsValid(Worker& worker, uint32_t u, uint32_t v, const Vec3& p, size_t checkedCentroids = 0) const {
         // Link condition: the only common neighbours are the two opposite
         // vertices of the edge's triangles. Neighbours are marked with
         // worker generations (each vertex belongs to one worker per round).
@@ -474,8 +470,8 @@ private:
             }
         }
         if (worstAfter > options_.maxAspectRatio && !(worstAfter < worstBefore)) return false;
-        for (const Vec3& c : centroids)
-            if (distanceToSurface(c) > options_.maxDistance) return false;
+        for (size_t i = checkedCentroids; i < centroids.size(); ++i)
+            if (distanceToSurface(centroids[i]) > options_.maxDistance) return false;
         return true;
     }
 
