@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 
 #include "geometry/meshing/cost_buckets.h"
 #include "geometry/meshing/mesh_analysis.h"
@@ -17,11 +18,13 @@ namespace {
 // Garland and Heckbert's quadric as its ten distinct entries: the weighted
 // sum of squared distances to planes, error(p) = pᵀAp + 2bᵀp + c.
 struct Quadric {
-    double a00 = 0, a01 = 0, a02 = 0, a11 = 0, a12 = 0, a22 = 0, b0 = 0, b1 = 0, b2 = 0, c = 0;
+    // No initialisers: the simplifier's array of them is filled in parallel
+    // (Quadric() and Quadric{} are zero).
+    double a00, a01, a02, a11, a12, a22, b0, b1, b2, c;
 
     /// The plane n·p + d = 0 (n of unit length), weighted.
     static Quadric ofPlane(const Vec3& n, double d, double weight) {
-        Quadric q;
+        Quadric q{};
         q.a00 = weight * n.x() * n.x(), q.a01 = weight * n.x() * n.y(), q.a02 = weight * n.x() * n.z();
         q.a11 = weight * n.y() * n.y(), q.a12 = weight * n.y() * n.z(), q.a22 = weight * n.z() * n.z();
         q.b0 = weight * d * n.x(), q.b1 = weight * d * n.y(), q.b2 = weight * d * n.z();
@@ -87,7 +90,7 @@ public:
         : mesh_(mesh), field_(field), options_(options) {
         const size_t n = mesh.vertices.size();
         facesOf_.resize(n);
-        quadric_.assign(n, Quadric());
+        quadric_.reset(new Quadric[n]);  // written by buildAdjacency
         stamp_.assign(n, 0);
         removedVertex_.assign(n, 0);
         deferred_.assign(n, 0);
@@ -165,7 +168,9 @@ private:
         tbb::parallel_for(size_t(0), mesh_.triangles.size(), [&](size_t f) { aspect_[f] = computeAspectRatio(uint32_t(f)); });
         tbb::parallel_for(size_t(0), n, [&](size_t v) {
             facesOf_[v].assign(faces.begin() + start[v], faces.begin() + start[v + 1]);
-            for (uint32_t f : facesOf_[v]) quadric_[v] += faceQuadric(f);
+            Quadric q{};
+            for (uint32_t f : facesOf_[v]) q += faceQuadric(f);
+            quadric_[v] = q;
         });
     }
 
@@ -190,15 +195,15 @@ private:
     std::vector<std::vector<uint32_t>> assignBlocks(const BlockGrid& grid, double shift, const std::vector<uint8_t>& seed) {
         const int cells = grid.perAxis + (shift > 0 ? 1 : 0);
         std::vector<std::vector<uint32_t>> seedsOf(size_t(cells) * cells * cells);
-        block_.assign(mesh_.vertices.size(), 0);
-        for (uint32_t v = 0; v < mesh_.vertices.size(); ++v) {
-            if (removedVertex_[v] || facesOf_[v].empty()) continue;
+        block_.resize(mesh_.vertices.size());
+        tbb::parallel_for(size_t(0), mesh_.vertices.size(), [&](size_t v) {
             int cell[3];
             for (int k = 0; k < 3; ++k)
                 cell[k] = std::clamp(int((mesh_.vertices[v][k] - grid.lo[k]) * grid.cellsPerUnit[k] + shift), 0, cells - 1);
             block_[v] = uint32_t((cell[0] * cells + cell[1]) * cells + cell[2]);
-            if (seed[v]) seedsOf[block_[v]].push_back(v);
-        }
+        });
+        for (uint32_t v = 0; v < mesh_.vertices.size(); ++v)
+            if (seed[v] && !removedVertex_[v] && !facesOf_[v].empty()) seedsOf[block_[v]].push_back(v);
         // A vertex whose faces lie in its block stays so through the round:
         // its block's collapses only merge neighbourhoods inside the block,
         // and no other block touches it.
@@ -536,6 +541,9 @@ private:
     void compact() {
         std::vector<uint32_t> remap(mesh_.vertices.size(), UINT32_MAX);
         IndexedMesh out;
+        const size_t faces = size_t(std::count(removedFace_.begin(), removedFace_.end(), 0));
+        out.triangles.reserve(faces);
+        out.vertices.reserve(faces / 2 + 2);  // a closed mesh has about half as many vertices
         for (uint32_t f = 0; f < mesh_.triangles.size(); ++f) {
             if (removedFace_[f]) continue;
             std::array<uint32_t, 3> t;
@@ -562,7 +570,7 @@ private:
     const FieldProgram& field_;
     SimplifyOptions options_;
     std::vector<std::vector<uint32_t>> facesOf_;
-    std::vector<Quadric> quadric_;
+    std::unique_ptr<Quadric[]> quadric_;
     std::vector<uint32_t> stamp_;
     // Bytes, not std::vector<bool>: blocks write their own vertices' flags
     // concurrently.
