@@ -123,6 +123,8 @@ public:
                     // keep their capacity from block to block.
                     Worker& worker = workers.local();
                     worker.block = uint32_t(b);
+                    // The block's vertices have never been marked this round.
+                    worker.generation = 0;
                     for (uint32_t u : seedsOf[b]) {
                         if (!interior_[u]) {
                             deferred_[u] = 1;
