@@ -1,12 +1,13 @@
 // A priority queue of non-negative float costs that is exact only to
-// buckets: the cost's exponent and top four mantissa bits, so costs within
-// about 6% of each other share a bucket and leave it first in, first out.
+// buckets: the cost's exponent and top four mantissa bits, so costs in one
+// bucket differ by at most 6.25%, and leave it first in, first out.
 //
 // The simplifier pops millions of candidates, most of them stale; a binary
 // heap pays a sift for every push and pop, here both are O(1). Within 6%, the
-// order of collapses does not matter to their quality, and first in, first
-// out spreads equal-cost collapses (a flat region's) over the region instead
-// of piling them onto the newest vertex.
+// order of collapses matters little to the result (on the polygonization
+// bench, triangle counts within 1.5% of the heap's), and first in, first out
+// spreads equal-cost collapses (a flat region's) over the region instead of
+// piling them onto the newest vertex.
 #pragma once
 
 #include <algorithm>
