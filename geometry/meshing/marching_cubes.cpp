@@ -396,6 +396,14 @@ IndexedMesh marchingCubes(const FieldProgram& field, const Box3& box, const Marc
     // not depend on scheduling.
     IndexedMesh mesh;
     std::unordered_map<uint64_t, uint32_t> global;
+    // Sized once: growing the map and the arrays on the way rehashed and
+    // copied them several times (a serial pass, while the other threads wait).
+    size_t vertexCount = 0, triangleCount = 0;
+    for (const BrickOutput& out : outputs) vertexCount += out.positions.size(), triangleCount += out.triangles.size();
+    global.reserve(vertexCount);
+    mesh.vertices.reserve(vertexCount);
+    mesh.normals.reserve(vertexCount);
+    mesh.triangles.reserve(triangleCount);
     MarchingCubesStatistics stats;
     stats.bricksVisited = static_cast<long long>(bricks.size());
     for (const BrickOutput& out : outputs) {
