@@ -367,6 +367,86 @@ void collectBricks(const FieldProgram& field, const Grid& grid, const BrickRange
     }
 }
 
+// Whether a vertex on the grid edge `key` can come from another brick too:
+// it can when a cell of another brick touches the edge, i.e. when the edge
+// lies in a face of the brick (one of the four parallel to the edge).
+bool onBrickFace(uint64_t key, const Grid& grid, const BrickRange& brick) {
+    const uint64_t nx = uint64_t(grid.cells[0]) + 1, ny = uint64_t(grid.cells[1]) + 1;
+    const int axis = int(key % 3);
+    uint64_t rest = key / 3;
+    const int point[3] = {int(rest % nx), int((rest / nx) % ny), int(rest / nx / ny)};
+    for (int o = 0; o < 3; ++o) {
+        if (o == axis) continue;
+        if (point[o] <= brick.start[o] || point[o] >= brick.start[o] + brick.size[o]) return true;
+    }
+    return false;
+}
+
+// Welds the bricks' vertices into one mesh, numbered in brick order (a
+// vertex takes the number of its key's first appearance) whatever the
+// schedule. Only vertices on brick faces can repeat, so only those go
+// through the one serial pass; numbering and copying run in parallel.
+// Called inside the caller's task arena.
+IndexedMesh weld(const std::vector<BrickOutput>& outputs, const std::vector<BrickRange>& bricks, const Grid& grid) {
+    const size_t n = outputs.size();
+    // Per brick and vertex: its number in the mesh; until known, kNew (to be
+    // numbered) or kRepeat (its key appeared in an earlier brick, which
+    // `firstOf` names).
+    constexpr uint32_t kNew = UINT32_MAX, kRepeat = UINT32_MAX - 1;
+    std::vector<std::vector<uint32_t>> index(n);
+    std::vector<std::vector<uint32_t>> facing(n);  ///< vertices on brick faces, in order
+    tbb::parallel_for(size_t(0), n, [&](size_t b) {
+        const BrickOutput& out = outputs[b];
+        index[b].assign(out.positions.size(), kNew);
+        for (uint32_t v = 0; v < out.positions.size(); ++v)
+            if (!(out.keys[v] & kFeatureKey) && onBrickFace(out.keys[v], grid, bricks[b])) facing[b].push_back(v);
+    });
+    // The serial part: first appearances of the keys on brick faces.
+    struct Appearance {
+        uint32_t brick, vertex;
+    };
+    size_t facingCount = 0;
+    for (const auto& f : facing) facingCount += f.size();
+    std::unordered_map<uint64_t, Appearance> firstOf;
+    firstOf.reserve(facingCount);
+    for (uint32_t b = 0; b < n; ++b)
+        for (uint32_t v : facing[b])
+            if (!firstOf.emplace(outputs[b].keys[v], Appearance{b, v}).second) index[b][v] = kRepeat;
+    // Numbers: new vertices of earlier bricks first, each brick's in order.
+    std::vector<size_t> vertexStart(n + 1, 0), triangleStart(n + 1, 0);
+    tbb::parallel_for(size_t(0), n, [&](size_t b) {
+        vertexStart[b + 1] = size_t(std::count(index[b].begin(), index[b].end(), kNew));
+        triangleStart[b + 1] = outputs[b].triangles.size();
+    });
+    for (size_t b = 0; b < n; ++b) vertexStart[b + 1] += vertexStart[b], triangleStart[b + 1] += triangleStart[b];
+    IndexedMesh mesh;
+    mesh.vertices.resize(vertexStart[n]);
+    mesh.normals.resize(vertexStart[n]);
+    mesh.triangles.resize(triangleStart[n]);
+    tbb::parallel_for(size_t(0), n, [&](size_t b) {
+        uint32_t next = uint32_t(vertexStart[b]);
+        for (size_t v = 0; v < index[b].size(); ++v) {
+            if (index[b][v] != kNew) continue;
+            mesh.vertices[next] = outputs[b].positions[v];
+            mesh.normals[next] = outputs[b].normals[v];
+            index[b][v] = next++;
+        }
+    });
+    // Repeats take their first appearance's number (known now), then the
+    // triangles are renumbered.
+    tbb::parallel_for(size_t(0), n, [&](size_t b) {
+        const BrickOutput& out = outputs[b];
+        for (uint32_t v : facing[b]) {
+            if (index[b][v] != kRepeat) continue;
+            const Appearance first = firstOf.at(out.keys[v]);
+            index[b][v] = index[first.brick][first.vertex];
+        }
+        size_t t = triangleStart[b];
+        for (const auto& tri : out.triangles) mesh.triangles[t++] = {index[b][tri[0]], index[b][tri[1]], index[b][tri[2]]};
+    });
+    return mesh;
+}
+
 }  // namespace
 
 IndexedMesh marchingCubes(const FieldProgram& field, const Box3& box, const MarchingCubesOptions& options,
@@ -392,38 +472,14 @@ IndexedMesh marchingCubes(const FieldProgram& field, const Box3& box, const Marc
         });
     });
 
-    // Weld in brick order: shared edge vertices by key, so the result does
-    // not depend on scheduling.
-    IndexedMesh mesh;
-    std::unordered_map<uint64_t, uint32_t> global;
-    // Sized once: growing the map and the arrays on the way rehashed and
-    // copied them several times (a serial pass, while the other threads wait).
-    size_t vertexCount = 0, triangleCount = 0;
-    for (const BrickOutput& out : outputs) vertexCount += out.positions.size(), triangleCount += out.triangles.size();
-    global.reserve(vertexCount);
-    mesh.vertices.reserve(vertexCount);
-    mesh.normals.reserve(vertexCount);
-    mesh.triangles.reserve(triangleCount);
     MarchingCubesStatistics stats;
     stats.bricksVisited = static_cast<long long>(bricks.size());
     for (const BrickOutput& out : outputs) {
         stats.cellsVisited += out.cells;
         stats.fieldEvaluations += out.evaluations;
-        std::vector<uint32_t> remap(out.positions.size());
-        for (size_t v = 0; v < out.positions.size(); ++v) {
-            const bool shared = !(out.keys[v] & kFeatureKey);
-            if (shared) {
-                const auto [it, inserted] = global.emplace(out.keys[v], uint32_t(mesh.vertices.size()));
-                remap[v] = it->second;
-                if (!inserted) continue;
-            } else {
-                remap[v] = uint32_t(mesh.vertices.size());
-            }
-            mesh.vertices.push_back(out.positions[v]);
-            mesh.normals.push_back(out.normals[v]);
-        }
-        for (const auto& t : out.triangles) mesh.triangles.push_back({remap[t[0]], remap[t[1]], remap[t[2]]});
     }
+    IndexedMesh mesh;
+    arena.execute([&] { mesh = weld(outputs, bricks, grid); });
     if (statistics) *statistics = stats;
     return mesh;
 }
