@@ -91,6 +91,11 @@ struct Grid {
         const uint64_t nx = uint64_t(cells[0]) + 1, ny = uint64_t(cells[1]) + 1;
         return ((uint64_t(k) * ny + uint64_t(j)) * nx + uint64_t(i)) * 3 + uint64_t(axis);
     }
+    /// The inverse of edgeKey: the edge's first grid point (i, j, k) and its axis.
+    std::array<int, 4> edgeOfKey(uint64_t key) const {
+        const uint64_t nx = uint64_t(cells[0]) + 1, ny = uint64_t(cells[1]) + 1, point = key / 3;
+        return {int(point % nx), int((point / nx) % ny), int(point / nx / ny), int(key % 3)};
+    }
 };
 
 class BrickMesher {
@@ -371,13 +376,10 @@ void collectBricks(const FieldProgram& field, const Grid& grid, const BrickRange
 // it can when a cell of another brick touches the edge, i.e. when the edge
 // lies in a face of the brick (one of the four parallel to the edge).
 bool onBrickFace(uint64_t key, const Grid& grid, const BrickRange& brick) {
-    const uint64_t nx = uint64_t(grid.cells[0]) + 1, ny = uint64_t(grid.cells[1]) + 1;
-    const int axis = int(key % 3);
-    uint64_t rest = key / 3;
-    const int point[3] = {int(rest % nx), int((rest / nx) % ny), int(rest / nx / ny)};
+    const std::array<int, 4> edge = grid.edgeOfKey(key);  // i, j, k, axis
     for (int o = 0; o < 3; ++o) {
-        if (o == axis) continue;
-        if (point[o] <= brick.start[o] || point[o] >= brick.start[o] + brick.size[o]) return true;
+        if (o == edge[3]) continue;
+        if (edge[o] <= brick.start[o] || edge[o] >= brick.start[o] + brick.size[o]) return true;
     }
     return false;
 }

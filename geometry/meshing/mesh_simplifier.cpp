@@ -407,6 +407,15 @@ private:
         return {v, u};
     }
 
+    // Face t once u and v have merged at p. The distance pre-test and
+    // collapseIsValid both build new faces here, so they sum the same
+    // centroid and the pre-tested face need not be asked again.
+    std::array<Vec3, 3> afterCollapse(const std::array<uint32_t, 3>& t, uint32_t u, uint32_t v, const Vec3& p) const {
+        std::array<Vec3, 3> after;
+        for (int k = 0; k < 3; ++k) after[k] = (t[k] == u || t[k] == v) ? p : mesh_.vertices[t[k]];
+        return after;
+    }
+
     enum class FirstFace { Leaves, Within, None };
 
     // The distance test of the first new face of the end that moves farther
@@ -418,9 +427,7 @@ private:
         for (uint32_t f : facesOf_[far]) {
             const auto& t = mesh_.triangles[f];
             if (t[0] == other || t[1] == other || t[2] == other) continue;  // disappears
-            // Summed as collapseIsValid sums it, so both see the same point.
-            std::array<Vec3, 3> after;
-            for (int k = 0; k < 3; ++k) after[k] = t[k] == far ? p : mesh_.vertices[t[k]];
+            const std::array<Vec3, 3> after = afterCollapse(t, u, v, p);
             return distanceToSurface((after[0] + after[1] + after[2]) / 3.0) > options_.maxDistance ? FirstFace::Leaves
                                                                                                    : FirstFace::Within;
         }
@@ -462,11 +469,8 @@ private:
                 const auto& t = mesh_.triangles[f];
                 const bool hasU = t[0] == u || t[1] == u || t[2] == u;
                 const bool hasV = t[0] == v || t[1] == v || t[2] == v;
-                std::array<Vec3, 3> before, after;
-                for (int k = 0; k < 3; ++k) {
-                    before[k] = mesh_.vertices[t[k]];
-                    after[k] = (t[k] == u || t[k] == v) ? p : before[k];
-                }
+                const std::array<Vec3, 3> before = {mesh_.vertices[t[0]], mesh_.vertices[t[1]], mesh_.vertices[t[2]]};
+                const std::array<Vec3, 3> after = afterCollapse(t, u, v, p);
                 const double aspectBefore = aspect_[f];
                 worstBefore = std::max(worstBefore, aspectBefore);
                 if (hasU && hasV) continue;  // disappears
@@ -541,7 +545,6 @@ private:
     void push(Worker& worker, uint32_t a, uint32_t b) const {
         if (Candidate c; candidate(a, b, c)) worker.queue.push(c);
     }
-
 
     // Drops removed faces and vertices; normals from the field, in parallel
     // (called inside the task arena).
