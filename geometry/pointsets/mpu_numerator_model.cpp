@@ -8,6 +8,12 @@ namespace isotrace::geometry {
 
 namespace {
 
+// The upper triangle of a symmetric matrix.
+template <class T>
+struct Symmetric3 {
+    T xx, xy, xz, yy, yz, zz;
+};
+
 // Which of a local's pieces its combination takes where they have the
 // values v.
 int pieceTaken(const MpuLocal& l, const double* v) {
@@ -65,12 +71,13 @@ PieceInEffect pieceInEffect(const MpuField& field, const MpuLocal& l, const Vec3
 // s'' = 2 / R^2, so w'' lies in [-6 sigma^2, 6 sigma (5 v - 1)] / R^2: the
 // first magnitude falls with v, the second peaks at v = 0.6 (4.8 / R^2).
 // Summing the two terms' largest magnitudes instead would give 30 / R^2.
-double weightCurvatureBound(const Interval& distance, double R) {
-    const double R2 = R * R;
-    const double lo = std::min(distance.lo * distance.lo / R2, 1.0), hi = std::min(distance.hi * distance.hi / R2, 1.0);
-    auto rising = [](double v) { return 6.0 * (1.0 - v) * (5.0 * v - 1.0); };
-    const double peak = hi <= 0.6 ? rising(hi) : lo >= 0.6 ? rising(lo) : 4.8;
-    return std::max(6.0 * (1.0 - lo) * (1.0 - lo), peak) / R2 * (1 + 1e-12);
+template <class T>
+T weightCurvatureBound(const T& distanceLo, const T& distanceHi, const T& R) {
+    const T R2 = R * R;
+    const T lo = lesser(T(distanceLo * distanceLo / R2), T(1.0)), hi = lesser(T(distanceHi * distanceHi / R2), T(1.0));
+    auto rising = [](const T& v) { return T(6.0 * (1.0 - v) * (5.0 * v - 1.0)); };
+    const T peak = select(hi <= 0.6, rising(hi), select(lo >= 0.6, rising(lo), T(4.8)));
+    return greater(T(6.0 * (1.0 - lo) * (1.0 - lo)), peak) / R2 * (1 + 1e-12);
 }
 
 // The same for |w'''|: w''' = s' (36 sigma / R^2 - 6 s'^2) with
@@ -78,13 +85,15 @@ double weightCurvatureBound(const Interval& distance, double R) {
 // largest at s' = sqrt(2 sigma) / R (24 sqrt 2 sigma^1.5 / R^3, falling with
 // x) or at s' = P (|72 x - 120 x^3| / R^3, extreme at x^2 = 0.2 and at the
 // interval's ends).
-double weightThirdBound(const Interval& distance, double R) {
-    const double lo = std::min(distance.lo / R, 1.0), hi = std::min(distance.hi / R, 1.0);
-    const double sigma = 1.0 - lo * lo;
-    auto atEnd = [](double x) { return std::abs(72.0 * x - 120.0 * x * x * x); };
-    double bound = std::max({24.0 * std::sqrt(2.0) * sigma * std::sqrt(sigma), atEnd(lo), atEnd(hi)});
+template <class T>
+T weightThirdBound(const T& distanceLo, const T& distanceHi, const T& R) {
+    using std::abs, std::sqrt;
+    const T lo = lesser(T(distanceLo / R), T(1.0)), hi = lesser(T(distanceHi / R), T(1.0));
+    const T sigma = 1.0 - lo * lo;
+    auto atEnd = [](const T& x) { return T(abs(T(72.0 * x - 120.0 * x * x * x))); };
     const double critical = std::sqrt(0.2);
-    if (lo < critical && critical < hi) bound = std::max(bound, atEnd(critical));
+    const T ends = greater(greater(T(24.0 * std::sqrt(2.0) * sigma * sqrt(sigma)), atEnd(lo)), atEnd(hi));
+    const T bound = select(lo < critical, select(critical < hi, greater(ends, atEnd(T(critical))), ends), ends);
     return bound / (R * R * R) * (1 + 1e-12);
 }
 
@@ -126,19 +135,37 @@ struct TaylorSums {
 
 }  // namespace
 
-Interval quadraticRange(double value, const Vec3& gradient, const Mat3& A, const Vec3& half) {
-    const double linear = gradient.cwiseAbs().dot(half);
-    double lo = value - linear, hi = value + linear;
-    for (int a = 0; a < 3; ++a) {
-        const double diagonal = A(a, a) * half[a] * half[a];
-        (diagonal < 0 ? lo : hi) += diagonal;
-        for (int b = a + 1; b < 3; ++b) {
-            const double cross = 2.0 * std::abs(A(a, b)) * half[a] * half[b];
-            lo -= cross;
-            hi += cross;
-        }
+namespace {
+
+// quadraticRange for doubles and lanes alike.
+template <class T>
+struct RangeOf {
+    T lo, hi;
+    T magnitude() const {
+        using std::abs;
+        return greater(T(abs(lo)), T(abs(hi)));
     }
+};
+template <class T>
+RangeOf<T> quadraticRangeOf(const T& value, const T& gx, const T& gy, const T& gz, const Symmetric3<T>& a,
+                            const T& hx, const T& hy, const T& hz) {
+    using std::abs;
+    const T linear = abs(gx) * hx + abs(gy) * hy + abs(gz) * hz;
+    const T dx = a.xx * hx * hx, dy = a.yy * hy * hy, dz = a.zz * hz * hz;
+    const T cross = 2.0 * (abs(a.xy) * hx * hy + abs(a.xz) * hx * hz + abs(a.yz) * hy * hz);
+    const T zero(0.0);
+    const T lo = value - linear + (lesser(dx, zero) + lesser(dy, zero) + lesser(dz, zero)) - cross;
+    const T hi = value + linear + (greater(dx, zero) + greater(dy, zero) + greater(dz, zero)) + cross;
     return {lo, hi};
+}
+
+}  // namespace
+
+Interval quadraticRange(double value, const Vec3& gradient, const Mat3& A, const Vec3& half) {
+    const RangeOf<double> r = quadraticRangeOf<double>(value, gradient.x(), gradient.y(), gradient.z(),
+                                                       {A(0, 0), A(0, 1), A(0, 2), A(1, 1), A(1, 2), A(2, 2)},
+                                                       half.x(), half.y(), half.z());
+    return {r.lo, r.hi};
 }
 
 namespace {
@@ -176,8 +203,8 @@ void addLocal(const MpuField& field, uint32_t index, const Interval& distance, c
     if (r.squaredNorm() < R2) taylor.add(q, qc, gq, r, R2);
     // Bounds of w's first three directional derivatives over the box.
     const double sigmaMax = 1.0 - distance.lo * distance.lo / R2;
-    const double w1 = mpuWeightSlope(distance, R), w2 = weightCurvatureBound(distance, R),
-                 w3 = weightThirdBound(distance, R);
+    const double w1 = mpuWeightSlope(distance, R), w2 = weightCurvatureBound(distance.lo, distance.hi, R),
+                 w3 = weightThirdBound(distance.lo, distance.hi, R);
     const double hqNorm = 2.0 * field.pieceCurvature(l.first + piece.index);  // at least |u^T Hq u|
     const double q0 = quadraticRange(qc, gq, q.A, half).magnitude(), q1 = gq.norm() + hqNorm * rho;
     const double third = w3 * q0 + 3.0 * w2 * q1 + 3.0 * w1 * hqNorm;
@@ -223,7 +250,171 @@ void setErrors(MpuNumeratorModel& m, const ErrorSums& sums, double rho) {
 
 }  // namespace
 
-MpuNumeratorModel fitMpuNumeratorModel(const MpuField& field, const Box3& box, std::span<const uint32_t> locals) {
+void MpuLocalColumns::assign(const MpuField& field, std::span<const uint32_t> locals) {
+    sharp_.clear();
+    singleCount_ = 0;
+    for (const uint32_t i : locals) {
+        if (field.locals()[i].combination == MpuCombination::Single) ++singleCount_;
+        else sharp_.push_back(i);
+    }
+    // Columns padded with zeros to whole vectors (the sums mask the padding).
+    stride_ = (singleCount_ + Lanes::size() - 1) / Lanes::size() * Lanes::size();
+    data_.assign(stride_ * kColumns, 0.0);
+    size_t k = 0;
+    for (const uint32_t i : locals) {
+        const MpuLocal& l = field.locals()[i];
+        if (l.combination != MpuCombination::Single) continue;
+        const MpuQuadric& q = field.pieces()[l.first];
+        const double values[kColumns] = {l.center.x(), l.center.y(), l.center.z(), l.radius, 1.0 / (l.radius * l.radius),
+                                         q.origin.x(), q.origin.y(), q.origin.z(), q.A(0, 0), q.A(0, 1), q.A(0, 2),
+                                         q.A(1, 1), q.A(1, 2), q.A(2, 2), q.g.x(), q.g.y(), q.g.z(), q.c0,
+                                         field.pieceCurvature(l.first)};
+        for (int c = 0; c < kColumns; ++c) data_[size_t(c) * stride_ + k] = values[c];
+        ++k;
+    }
+}
+
+namespace {
+
+// Single-piece locals from the columns, Lanes::size() at a time; the
+// columns are padded to whole vectors, and the padding's lanes are masked.
+struct LaneLoader {
+    const MpuLocalColumns& columns;
+    size_t first;  ///< the first local of the lanes
+    Lanes operator()(MpuLocalColumns::Column c) const {
+        return Lanes(columns.column(c) + first, std::experimental::element_aligned);
+    }
+};
+
+// The lanes' quadrics at p (value and gradient), and what each adds to N's
+// Taylor terms there: TaylorSums::add, lane by lane. Every term carries
+// sigma, so a lane whose ball misses p (or a padding lane) adds nothing.
+struct LaneTerms {
+    Lanes q, gqx, gqy, gqz;
+    Lanes value, gx, gy, gz, hxx, hxy, hxz, hyy, hyz, hzz;
+};
+
+LaneTerms laneTerms(const LaneLoader& load, const Vec3& p, const Lanes::mask_type& valid) {
+    using C = MpuLocalColumns;
+    LaneTerms t;
+    const Lanes yx = p.x() - load(C::OriginX), yy = p.y() - load(C::OriginY), yz = p.z() - load(C::OriginZ);
+    const Lanes axx = load(C::Axx), axy = load(C::Axy), axz = load(C::Axz), ayy = load(C::Ayy), ayz = load(C::Ayz),
+                azz = load(C::Azz);
+    const Lanes ayX = axx * yx + axy * yy + axz * yz, ayY = axy * yx + ayy * yy + ayz * yz,
+                ayZ = axz * yx + ayz * yy + azz * yz;
+    const Lanes gx = load(C::Gx), gy = load(C::Gy), gz = load(C::Gz);
+    t.q = load(C::C0) + (gx * yx + gy * yy + gz * yz) + (yx * ayX + yy * ayY + yz * ayZ);
+    t.gqx = gx + 2.0 * ayX;
+    t.gqy = gy + 2.0 * ayY;
+    t.gqz = gz + 2.0 * ayZ;
+    const Lanes rx = p.x() - load(C::CenterX), ry = p.y() - load(C::CenterY), rz = p.z() - load(C::CenterZ);
+    const Lanes inverseR2 = load(C::InverseRadius2);
+    const Lanes s = 1.0 - (rx * rx + ry * ry + rz * rz) * inverseR2;
+    const Lanes sigma = select(valid && s > 0.0, s, Lanes(0.0)), w = sigma * sigma * sigma;
+    const Lanes dsx = 2.0 * inverseR2 * rx, dsy = 2.0 * inverseR2 * ry, dsz = 2.0 * inverseR2 * rz;
+    const Lanes dwScale = -3.0 * sigma * sigma;
+    const Lanes dwx = dwScale * dsx, dwy = dwScale * dsy, dwz = dwScale * dsz;
+    const Lanes outer = 6.0 * sigma * t.q, diagonal = 6.0 * sigma * sigma * t.q * inverseR2;
+    t.value = w * t.q;
+    t.gx = t.q * dwx + w * t.gqx;
+    t.gy = t.q * dwy + w * t.gqy;
+    t.gz = t.q * dwz + w * t.gqz;
+    t.hxx = outer * dsx * dsx + dwx * t.gqx + t.gqx * dwx + 2.0 * w * axx - diagonal;
+    t.hxy = outer * dsx * dsy + dwx * t.gqy + t.gqx * dwy + 2.0 * w * axy;
+    t.hxz = outer * dsx * dsz + dwx * t.gqz + t.gqx * dwz + 2.0 * w * axz;
+    t.hyy = outer * dsy * dsy + dwy * t.gqy + t.gqy * dwy + 2.0 * w * ayy - diagonal;
+    t.hyz = outer * dsy * dsz + dwy * t.gqz + t.gqy * dwz + 2.0 * w * ayz;
+    t.hzz = outer * dsz * dsz + dwz * t.gqz + t.gqz * dwz + 2.0 * w * azz - diagonal;
+    return t;
+}
+
+// The lanes that hold locals: the first n - first of them.
+Lanes::mask_type validLanes(size_t first, size_t n) {
+    Lanes index([](auto lane) { return double(lane); });
+    return index < double(n - first);
+}
+
+// Sums of the single-piece locals' terms (the order of the sums changes
+// with the lane count, within their rounding allowance).
+struct SingleSums {
+    double value = 0.0, gradient[3] = {}, hessian[6] = {};
+    double third = 0.0, scale = 0.0;
+
+    void addTo(TaylorSums& taylor) const {
+        taylor.value += value;
+        for (int j = 0; j < 3; ++j) taylor.gradient[j] += gradient[j];
+        for (int j = 0; j < 6; ++j) taylor.hessian[j] += hessian[j];
+    }
+};
+
+// The single-piece locals' Taylor terms at c; with a box (centre c, half
+// diagonal rho), also their share of M3 and of the sums' size over it:
+// what addLocal gives each of them.
+SingleSums sumSingles(const MpuLocalColumns& columns, const Vec3& c, const Box3* box = nullptr, double rho = 0.0) {
+    using C = MpuLocalColumns;
+    using std::experimental::reduce;
+    const Vec3 half = box ? Vec3(0.5 * box->extent()) : Vec3::Zero();
+    Lanes value = 0.0, gx = 0.0, gy = 0.0, gz = 0.0, hxx = 0.0, hxy = 0.0, hxz = 0.0, hyy = 0.0, hyz = 0.0, hzz = 0.0;
+    Lanes third = 0.0, scale = 0.0;
+    const size_t n = columns.singleCount();
+    for (size_t first = 0; first < n; first += Lanes::size()) {
+        const LaneLoader load{columns, first};
+        const Lanes::mask_type valid = validLanes(first, n);
+        const LaneTerms t = laneTerms(load, c, valid);
+        value += t.value;
+        gx += t.gx;
+        gy += t.gy;
+        gz += t.gz;
+        hxx += t.hxx;
+        hxy += t.hxy;
+        hxz += t.hxz;
+        hyy += t.hyy;
+        hyz += t.hyz;
+        hzz += t.hzz;
+        if (!box) continue;
+        // The distances from the ball's centre to the box.
+        using std::experimental::abs, std::experimental::sqrt;
+        auto gap = [&](C::Column centre, int axis) {
+            const Lanes x = load(centre);
+            return greater(greater(Lanes(box->lower[axis] - x), Lanes(0.0)), Lanes(x - box->upper[axis]));
+        };
+        auto far = [&](C::Column centre, int axis) {
+            const Lanes x = load(centre);
+            return greater(Lanes(abs(x - box->lower[axis])), Lanes(abs(x - box->upper[axis])));
+        };
+        const Lanes ex = gap(C::CenterX, 0), ey = gap(C::CenterY, 1), ez = gap(C::CenterZ, 2);
+        const Lanes fx = far(C::CenterX, 0), fy = far(C::CenterY, 1), fz = far(C::CenterZ, 2);
+        const Lanes gap2 = ex * ex + ey * ey + ez * ez;
+        const Lanes nearest = sqrt(gap2), farthest = sqrt(fx * fx + fy * fy + fz * fz);
+        const Lanes R = load(C::Radius);
+        const Lanes sigmaMax = 1.0 - gap2 * load(C::InverseRadius2);
+        const Lanes w1 = mpuWeightSlope(nearest, farthest, R), w2 = weightCurvatureBound(nearest, farthest, R),
+                    w3 = weightThirdBound(nearest, farthest, R);
+        const Lanes hqNorm = 2.0 * load(C::Curvature);  // at least |u^T Hq u|
+        const Symmetric3<Lanes> a{load(C::Axx), load(C::Axy), load(C::Axz), load(C::Ayy), load(C::Ayz), load(C::Azz)};
+        const Lanes q0 =
+            quadraticRangeOf(t.q, t.gqx, t.gqy, t.gqz, a, Lanes(half.x()), Lanes(half.y()), Lanes(half.z())).magnitude();
+        const Lanes q1 = sqrt(t.gqx * t.gqx + t.gqy * t.gqy + t.gqz * t.gqz) + hqNorm * rho;
+        // Padding lanes have R = 0: no distance is below it.
+        const Lanes::mask_type reaches = valid && nearest < R;
+        third += select(reaches, Lanes(w3 * q0 + 3.0 * w2 * q1 + 3.0 * w1 * hqNorm), Lanes(0.0));
+        scale += select(reaches, Lanes(sigmaMax * sigmaMax * sigmaMax * q0), Lanes(0.0));
+    }
+    SingleSums sums;
+    sums.value = reduce(value);
+    sums.gradient[0] = reduce(gx);
+    sums.gradient[1] = reduce(gy);
+    sums.gradient[2] = reduce(gz);
+    const Lanes* hessian[6] = {&hxx, &hxy, &hxz, &hyy, &hyz, &hzz};
+    for (int j = 0; j < 6; ++j) sums.hessian[j] = reduce(*hessian[j]);
+    sums.third = reduce(third);
+    sums.scale = reduce(scale);
+    return sums;
+}
+
+}  // namespace
+
+MpuNumeratorModel fitMpuNumeratorModel(const MpuField& field, const Box3& box, const MpuLocalColumns& locals) {
     const Vec3 c = box.center(), half = 0.5 * box.extent();
     const double rho = half.norm();
     MpuNumeratorModel m;
@@ -232,7 +423,11 @@ MpuNumeratorModel fitMpuNumeratorModel(const MpuField& field, const Box3& box, s
     ErrorSums sums;
     sums.scale = std::abs(m.value);
     TaylorSums taylor;
-    for (const uint32_t i : locals) {
+    const SingleSums singles = sumSingles(locals, c, &box, rho);
+    singles.addTo(taylor);
+    sums.singleThird = singles.third;
+    sums.scale += singles.scale;
+    for (const uint32_t i : locals.sharp()) {
         const MpuLocal& l = field.locals()[i];
         const Interval distance = box.distanceRange(l.center);
         if (distance.lo < l.radius) addLocal(field, i, distance, c, half, rho, taylor, sums, m);
@@ -242,7 +437,7 @@ MpuNumeratorModel fitMpuNumeratorModel(const MpuField& field, const Box3& box, s
     return m;
 }
 
-MpuNumeratorModel mpuNumeratorModelWithin(const MpuField& field, const Box3& box, std::span<const uint32_t> locals,
+MpuNumeratorModel mpuNumeratorModelWithin(const MpuField& field, const Box3& box, const MpuLocalColumns& locals,
                                           const MpuNumeratorModel& outer) {
     const Vec3 c = box.center(), half = 0.5 * box.extent();
     const double rho = half.norm();
@@ -262,9 +457,10 @@ MpuNumeratorModel mpuNumeratorModelWithin(const MpuField& field, const Box3& box
     sums.singleThird = outer.singleThird;
     sums.throughoutSharpThird = allSharpAnew ? 0.0 : outer.throughoutSharpThird;
     sums.scale = outer.scale;
-    for (const uint32_t i : locals) {
+    sumSingles(locals, c).addTo(taylor);
+    for (const uint32_t i : locals.sharp()) {
         const MpuLocal& l = field.locals()[i];
-        if (l.count > 1 && anew(i)) {
+        if (anew(i)) {
             const Interval distance = box.distanceRange(l.center);
             if (distance.lo < l.radius) addLocal(field, i, distance, c, half, rho, taylor, sums, m);
             continue;
@@ -274,12 +470,9 @@ MpuNumeratorModel mpuNumeratorModelWithin(const MpuField& field, const Box3& box
         if (r.squaredNorm() >= R2) continue;
         // One piece all over the outer box: the one in effect at c.
         const MpuQuadric* q = &field.pieces()[l.first];
-        int piece = 0;
-        if (l.count > 1) {
-            double v[3];
-            for (int k = 0; k < l.count; ++k) v[k] = q[k].evaluate(c, nullptr);
-            piece = pieceTaken(l, v);
-        }
+        double v[3];
+        for (int k = 0; k < l.count; ++k) v[k] = q[k].evaluate(c, nullptr);
+        const int piece = pieceTaken(l, v);
         Vec3 gq;
         const double qc = q[piece].evaluate(c, &gq);
         taylor.add(q[piece], qc, gq, r, R2);

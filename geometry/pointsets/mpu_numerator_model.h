@@ -26,6 +26,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <span>
+#include <vector>
 
 #include "geometry/bounding_box.h"
 #include "geometry/interval.h"
@@ -78,10 +79,41 @@ inline MpuTaylorRemainder mpuTaylorRemainder(double third, double rounding, doub
     return {third * r * r * r / 6.0 * scale + rounding, third * r * r / 2.0 * scale + rounding / std::max(rho, 1e-300)};
 }
 
+/// The locals of one list, gathered once for the many models of the boxes
+/// carved from one tracing cell (each sums the same list): single-piece
+/// locals as columns (ball, quadric, curvature), summed in vector lanes;
+/// sharp ones by index, since the piece they take changes from box to box.
+class MpuLocalColumns {
+public:
+    enum Column {
+        CenterX, CenterY, CenterZ, Radius, InverseRadius2,
+        OriginX, OriginY, OriginZ, Axx, Axy, Axz, Ayy, Ayz, Azz, Gx, Gy, Gz, C0,
+        Curvature,  ///< MpuField::pieceCurvature
+        kColumns
+    };
+
+    MpuLocalColumns() = default;
+    MpuLocalColumns(const MpuField& field, std::span<const uint32_t> locals) { assign(field, locals); }
+    /// Takes the list `locals` (indices into field.locals()); reuses its storage.
+    void assign(const MpuField& field, std::span<const uint32_t> locals);
+
+    size_t singleCount() const { return singleCount_; }
+    /// Column c: singleCount() values, columns stride() apart.
+    const double* column(Column c) const { return data_.data() + size_t(c) * stride_; }
+    size_t stride() const { return stride_; }
+    /// The sharp locals' indices into field.locals().
+    std::span<const uint32_t> sharp() const { return sharp_; }
+
+private:
+    size_t singleCount_ = 0, stride_ = 0;
+    std::vector<double> data_;
+    std::vector<uint32_t> sharp_;
+};
+
 /// The model of N over `box` from a list of locals that holds every one
 /// whose ball reaches the box (others listed are skipped). The box must lie
 /// in the field's domain, and the field hold no interpolants.
-MpuNumeratorModel fitMpuNumeratorModel(const MpuField& field, const Box3& box, std::span<const uint32_t> locals);
+MpuNumeratorModel fitMpuNumeratorModel(const MpuField& field, const Box3& box, const MpuLocalColumns& locals);
 
 /// The model of N over `box`, which lies inside the box of `outer`: the
 /// single-piece locals' share of outer's bound on N's third derivatives
@@ -89,7 +121,7 @@ MpuNumeratorModel fitMpuNumeratorModel(const MpuField& field, const Box3& box, s
 /// summed (over the balls that hold it), not their bounds; so for sharp
 /// locals whose crease does not cross outer's box. Those whose crease does
 /// are bounded anew. Looser than a model of its own, a fraction of the work.
-MpuNumeratorModel mpuNumeratorModelWithin(const MpuField& field, const Box3& box, std::span<const uint32_t> locals,
+MpuNumeratorModel mpuNumeratorModelWithin(const MpuField& field, const Box3& box, const MpuLocalColumns& locals,
                                           const MpuNumeratorModel& outer);
 
 /// The range of value + gradient . y + y^T A y (A symmetric) over

@@ -332,6 +332,9 @@ std::optional<CellAcceleration> MpuCellAccelerator::accelerate(const FieldProgra
     // its model is accurate enough, split while it is not; at the deepest
     // level, modelled however loosely (the model still proves most signs,
     // and the exact search takes what it cannot).
+    // The carved box's locals, gathered once for the models of every box
+    // carved from it.
+    MpuLocalColumns columns;
     auto keep = [&](auto&& self, const Box3& b, int splits, uint32_t first, uint32_t count,
                     const MpuNumeratorModel* parent) -> void {
         const Vec3 half = 0.5 * b.extent();
@@ -343,7 +346,6 @@ std::optional<CellAcceleration> MpuCellAccelerator::accelerate(const FieldProgra
             const Interval t = quadraticRange(value, slope, 0.5 * parent->hessian, half);
             if (t.lo > parent->valueError || t.hi < -parent->valueError) return;
         }
-        const std::span<const uint32_t> list(locals.data() + first, count);
         MpuPart part;
         // T's reach from its tangent plane over the box, and N's.
         auto bandOf = [&](const MpuNumeratorModel& m) {
@@ -360,12 +362,12 @@ std::optional<CellAcceleration> MpuCellAccelerator::accelerate(const FieldProgra
         // and bounding them anew costs three times as much.
         std::optional<MpuNumeratorModel> model;
         if (parent) {
-            model = mpuNumeratorModelWithin(field, b, list, *parent);
+            model = mpuNumeratorModelWithin(field, b, columns, *parent);
             if (holdsNoSurface(*model)) return;
             if (!accurate(*model)) model.reset();
         }
         if (!model) {
-            model = fitMpuNumeratorModel(field, b, list);
+            model = fitMpuNumeratorModel(field, b, columns);
             if (holdsNoSurface(*model)) return;
         }
         if (!accurate(*model) && splits < kMaxModelSplits) {
@@ -403,6 +405,7 @@ std::optional<CellAcceleration> MpuCellAccelerator::accelerate(const FieldProgra
         const uint32_t first = uint32_t(locals.size()), count = uint32_t(touching.size());
         const size_t kept = parts.size();
         locals.insert(locals.end(), touching.begin(), touching.end());
+        columns.assign(field, touching);
         keep(keep, b, splits, first, count, nullptr);
         if (parts.size() == kept) locals.resize(first);  // no part holds surface
     };

@@ -48,9 +48,10 @@ void expectWithinBounds(const MpuField& field, const std::vector<MpuPoint>& poin
             if (!domain.contains(outer)) continue;
             ++boxes;
             field.localsTouching(outer, locals);
-            const MpuNumeratorModel own = fitMpuNumeratorModel(field, box, locals);
+            const MpuLocalColumns columns(field, locals);
+            const MpuNumeratorModel own = fitMpuNumeratorModel(field, box, columns);
             const MpuNumeratorModel within =
-                mpuNumeratorModelWithin(field, box, locals, fitMpuNumeratorModel(field, outer, locals));
+                mpuNumeratorModelWithin(field, box, columns, fitMpuNumeratorModel(field, outer, columns));
             for (int k = 0; k < 80; ++k) {
                 const MpuNumeratorModel& m = k < 40 ? own : within;
                 ASSERT_TRUE(std::isfinite(m.valueError) && std::isfinite(m.slopeError));

@@ -1,0 +1,38 @@
+// Arithmetic written once for doubles and for vector lanes
+// (std::experimental::simd): the few choices that differ between the two,
+// so that a bound can be evaluated one value at a time or eight at a time
+// by the same code.
+#pragma once
+
+#include <experimental/simd>
+#include <type_traits>
+
+namespace isotrace::geometry {
+
+/// Doubles in the widest vector the build targets.
+using Lanes = std::experimental::native_simd<double>;
+
+/// chosen ? a : b, lane by lane for vectors.
+template <class Mask, class T>
+[[gnu::always_inline]] inline T select(const Mask& chosen, const T& a, const T& b) {
+    if constexpr (std::is_same_v<Mask, bool>) {
+        return chosen ? a : b;
+    } else {
+        T r = b;
+        where(chosen, r) = a;
+        return r;
+    }
+}
+
+/// std::min and std::max's choices (b only when strictly smaller or
+/// larger), by value, for doubles and lanes alike.
+template <class T>
+[[gnu::always_inline]] inline T lesser(const T& a, const T& b) {
+    return select(b < a, b, a);
+}
+template <class T>
+[[gnu::always_inline]] inline T greater(const T& a, const T& b) {
+    return select(a < b, b, a);
+}
+
+}  // namespace isotrace::geometry
