@@ -218,8 +218,7 @@ private:
                 if (exactRoot(locals, o, d, s.a, s.b, tolerance, r, gradient)) return true;
                 continue;
             }
-            // N is monotone over the span, |N'| >= least: one root at most,
-            // where the signs at its ends differ.
+            // N is monotone over the span, |N'| >= least: one root at most.
             auto signAt = [&](double t) {
                 const Vec3 x = o + t * d;
                 if (lastSign_.field == field_->id() && lastSign_.point == x) return lastSign_.sign;
@@ -229,40 +228,109 @@ private:
                 lastSign_ = {field_->id(), x, n > 0 ? 1 : n < 0 ? -1 : 0};
                 return lastSign_.sign;
             };
-            if (left == 0 && (left = signAt(s.a)) == 0) {
-                r.t = s.a;
-                gradient = field_->blendSums(o + s.a * d, locals).gradient();
-                return true;
+            // Rising, N has no root in the span when N(a) > 0 or N(b) < 0
+            // (falling, the reverse): one end's sign may settle it.
+            const bool rising = slopeA > 0;
+            auto provesNone = [&] { return (left != 0 && (left > 0) == rising) || (right != 0 && (right < 0) == rising); };
+            if (provesNone()) continue;
+            double start[2];
+            int found = 0;
+            quadraticRootsBetween(c2, c1, c0, s.a, s.b, start, found);
+            if (anyHit || (found == 0 && (left == 0 || right == 0))) {
+                // The signs at the ends decide (N alone, cheaper than the
+                // gradient a settled root needs): an occlusion query stops
+                // at a proven root, and a span where T has no root rarely
+                // holds one. The end on T's side of zero is asked first: it
+                // is the one likely to prove the span empty.
+                const bool aFirst = (model(0.5 * (s.a + s.b)) > 0) == rising;
+                for (int pass = 0; pass < 2 && !provesNone(); ++pass) {
+                    if ((pass == 0) == aFirst) {
+                        if (left == 0 && (left = signAt(s.a)) == 0) {
+                            r.t = s.a;
+                            gradient = field_->blendSums(o + s.a * d, locals).gradient();
+                            return true;
+                        }
+                    } else if (right == 0 && (right = signAt(s.b)) == 0) {
+                        right = rising ? 1 : -1;  // the root is s.b itself: N changes sign there
+                    }
+                }
+                if (provesNone()) continue;
+                if (anyHit) return rootBetween(s.a, s.b);
             }
-            if (right == 0 && (right = signAt(s.b)) == 0) right = -left;  // the root is s.b itself
-            if (left == right) continue;
-            if (anyHit) return rootBetween(s.a, s.b);
             // |N''| along the ray: T's, plus the Hessian's error.
             const double curvature = 2.0 * std::abs(c2) + m.hessianError * d.squaredNorm();
-            if (settledRoot(locals, o, d, s.a, s.b, left, least, curvature, c0, c1, c2, tolerance, r, gradient))
+            if (monotoneRoot(locals, o, d, s.a, s.b, left, right, rising, least, curvature,
+                             found > 0 ? start[0] : 0.5 * (s.a + s.b), signAt, tolerance, r, gradient))
                 return true;
         }
         return false;
     }
 
-    // The one root of N in (a, b), where N has sign `left` at a, the other at
-    // b, |N'| >= least and |N''| <= curvature: Newton steps on the exact N
-    // from T's root, kept inside the bracket. delta = |N(p)| / least bounds
-    // p's distance to the root, and the Newton step from p lands within
-    // curvature delta^2 / (2 least) of it: when that is within tolerance,
-    // the step is taken without evaluating N at its end (the gradient is
-    // p's, delta away).
+    // The root of N in the span (a, b) where N is monotone (rising or not),
+    // |N'| >= least, |N''| <= curvature, and has sign `left` at a and `right`
+    // at b (0 where not known), if it holds one. N is evaluated first at p
+    // (T's root): the root lies on the side where N falls towards 0, within
+    // |N(p)| / least of p, so where that reach stays inside the span the
+    // root is proven there without N's sign at the span's end; only where it
+    // does not is the end's sign asked (signAt).
+    template <class SignAt>
+    bool monotoneRoot(std::span<const uint32_t> locals, const Vec3& o, const Vec3& d, double a, double b, int left,
+                      int right, bool rising, double least, double curvature, double p, SignAt&& signAt,
+                      double tolerance, CellTraceResult& r, Vec3& gradient) const {
+        const MpuBlendSums sums = field_->blendSums(o + p * d, locals);
+        r.evaluations += locals.size();
+        ++r.steps;
+        const double n = sums.N;
+        if (n == 0.0) {
+            r.t = p;
+            gradient = sums.gradient();
+            return true;
+        }
+        const int signP = n > 0 ? 1 : -1;
+        const bool before = (n > 0) == rising;  // the root lies before p
+        const double reach = std::abs(n) / least;
+        double lo = p, hi = p;
+        if (before) {
+            lo = p - reach;
+            if (lo < a) {
+                if (left == 0 && (left = signAt(a)) == 0) {
+                    r.t = a;
+                    gradient = field_->blendSums(o + a * d, locals).gradient();
+                    return true;
+                }
+                if (left == signP) return false;
+                lo = a;
+            }
+        } else {
+            hi = p + reach;
+            if (hi > b) {
+                if (right == 0 && (right = signAt(b)) == 0) right = -signP;  // the root is b itself
+                if (right == signP) return false;
+                hi = b;
+            }
+        }
+        // The bracket [lo, hi] holds the root; N's sign at lo is -signP when
+        // the root is before p, signP after.
+        return settledRoot(locals, o, d, lo, hi, before ? -signP : signP, least, curvature, p, sums, tolerance, r,
+                           gradient);
+    }
+
+    // The one root of N in [a, b], where N has sign `left` at a, the other at
+    // b, |N'| >= least and |N''| <= curvature, from N's sums at p (in the
+    // bracket): Newton steps on the exact N, kept inside the bracket.
+    // delta = |N(p)| / least bounds p's distance to the root, and the Newton
+    // step from p lands within curvature delta^2 / (2 least) of it: when
+    // that is within tolerance, the step is taken without evaluating N at
+    // its end (the gradient is p's, delta away).
     bool settledRoot(std::span<const uint32_t> locals, const Vec3& o, const Vec3& d, double a, double b, int left,
-                     double least, double curvature, double c0, double c1, double c2, double tolerance,
+                     double least, double curvature, double p, MpuBlendSums sums, double tolerance,
                      CellTraceResult& r, Vec3& gradient) const {
-        double start[2];
-        int found = 0;
-        quadraticRootsBetween(c2, c1, c0, a, b, start, found);
-        double p = found > 0 ? start[0] : 0.5 * (a + b);
         for (int iteration = 0; iteration < 100; ++iteration) {
-            const MpuBlendSums sums = field_->blendSums(o + p * d, locals);
-            r.evaluations += locals.size();
-            ++r.steps;
+            if (iteration > 0) {
+                sums = field_->blendSums(o + p * d, locals);
+                r.evaluations += locals.size();
+                ++r.steps;
+            }
             const double n = sums.N;
             if (n == 0.0 || std::abs(n) <= least * tolerance) {
                 r.t = p;
