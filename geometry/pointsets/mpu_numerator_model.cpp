@@ -250,28 +250,57 @@ void setErrors(MpuNumeratorModel& m, const ErrorSums& sums, double rho) {
 
 }  // namespace
 
-void MpuLocalColumns::assign(const MpuField& field, std::span<const uint32_t> locals) {
-    sharp_.clear();
-    singleCount_ = 0;
-    for (const uint32_t i : locals) {
-        if (field.locals()[i].combination == MpuCombination::Single) ++singleCount_;
-        else sharp_.push_back(i);
-    }
+void MpuLocalColumns::fill(const MpuField& field, std::span<const uint32_t> locals, std::span<const uint8_t> pieces) {
+    singleCount_ = locals.size();
     // Columns padded with zeros to whole vectors (the sums mask the padding).
     stride_ = (singleCount_ + Lanes::size() - 1) / Lanes::size() * Lanes::size();
     data_.assign(stride_ * kColumns, 0.0);
-    size_t k = 0;
-    for (const uint32_t i : locals) {
-        const MpuLocal& l = field.locals()[i];
-        if (l.combination != MpuCombination::Single) continue;
-        const MpuQuadric& q = field.pieces()[l.first];
+    for (size_t k = 0; k < locals.size(); ++k) {
+        const MpuLocal& l = field.locals()[locals[k]];
+        const uint32_t piece = l.first + pieces[k];
+        const MpuQuadric& q = field.pieces()[piece];
         const double values[kColumns] = {l.center.x(), l.center.y(), l.center.z(), l.radius, 1.0 / (l.radius * l.radius),
                                          q.origin.x(), q.origin.y(), q.origin.z(), q.A(0, 0), q.A(0, 1), q.A(0, 2),
                                          q.A(1, 1), q.A(1, 2), q.A(2, 2), q.g.x(), q.g.y(), q.g.z(), q.c0,
-                                         field.pieceCurvature(l.first)};
+                                         field.pieceCurvature(piece)};
         for (int c = 0; c < kColumns; ++c) data_[size_t(c) * stride_ + k] = values[c];
-        ++k;
     }
+}
+
+void MpuLocalColumns::assign(const MpuField& field, std::span<const uint32_t> locals) {
+    sharp_.clear();
+    indices_.clear();
+    for (const uint32_t i : locals)
+        (field.locals()[i].combination == MpuCombination::Single ? indices_ : sharp_).push_back(i);
+    pieces_.assign(indices_.size(), 0);
+    fill(field, indices_, pieces_);
+}
+
+void MpuLocalColumns::assignResolved(const MpuField& field, const MpuLocalColumns* ancestor,
+                                     std::span<const uint32_t> sharp, const MpuNumeratorModel& outer) {
+    sharp_.clear();
+    indices_.clear();
+    pieces_.clear();
+    if (ancestor) {
+        indices_.assign(ancestor->indices_.begin(), ancestor->indices_.end());
+        pieces_.assign(ancestor->pieces_.begin(), ancestor->pieces_.end());
+    }
+    for (const uint32_t i : sharp) {
+        const bool creased = outer.creasedCount < 0 || std::find(outer.creased, outer.creased + outer.creasedCount, i) !=
+                                                           outer.creased + outer.creasedCount;
+        if (creased) {
+            sharp_.push_back(i);
+            continue;
+        }
+        // One piece all over the outer box: the one in effect at its centre
+        // (any piece, for a ball that misses the box: it adds nothing).
+        const MpuLocal& l = field.locals()[i];
+        double v[3];
+        for (int k = 0; k < l.count; ++k) v[k] = field.pieces()[l.first + k].evaluate(outer.center, nullptr);
+        indices_.push_back(i);
+        pieces_.push_back(uint8_t(pieceTaken(l, v)));
+    }
+    fill(field, indices_, pieces_);
 }
 
 namespace {
@@ -414,7 +443,8 @@ SingleSums sumSingles(const MpuLocalColumns& columns, const Vec3& c, const Box3*
 
 }  // namespace
 
-MpuNumeratorModel fitMpuNumeratorModel(const MpuField& field, const Box3& box, const MpuLocalColumns& locals) {
+MpuNumeratorModel fitMpuNumeratorModel(const MpuField& field, const Box3& box, const MpuLocalColumns& locals,
+                                       const MpuLocalColumns* resolved) {
     const Vec3 c = box.center(), half = 0.5 * box.extent();
     const double rho = half.norm();
     MpuNumeratorModel m;
@@ -423,11 +453,16 @@ MpuNumeratorModel fitMpuNumeratorModel(const MpuField& field, const Box3& box, c
     ErrorSums sums;
     sums.scale = std::abs(m.value);
     TaylorSums taylor;
-    const SingleSums singles = sumSingles(locals, c, &box, rho);
-    singles.addTo(taylor);
-    sums.singleThird = singles.third;
-    sums.scale += singles.scale;
-    for (const uint32_t i : locals.sharp()) {
+    // Locals of one piece all over the box, the resolved sharp ones too:
+    // their bounds are single pieces'.
+    for (const MpuLocalColumns* columns : {&locals, resolved}) {
+        if (!columns) continue;
+        const SingleSums singles = sumSingles(*columns, c, &box, rho);
+        singles.addTo(taylor);
+        sums.singleThird += singles.third;
+        sums.scale += singles.scale;
+    }
+    for (const uint32_t i : (resolved ? resolved : &locals)->sharp()) {
         const MpuLocal& l = field.locals()[i];
         const Interval distance = box.distanceRange(l.center);
         if (distance.lo < l.radius) addLocal(field, i, distance, c, half, rho, taylor, sums, m);
@@ -438,7 +473,7 @@ MpuNumeratorModel fitMpuNumeratorModel(const MpuField& field, const Box3& box, c
 }
 
 MpuNumeratorModel mpuNumeratorModelWithin(const MpuField& field, const Box3& box, const MpuLocalColumns& locals,
-                                          const MpuNumeratorModel& outer) {
+                                          const MpuLocalColumns* resolved, const MpuNumeratorModel& outer) {
     const Vec3 c = box.center(), half = 0.5 * box.extent();
     const double rho = half.norm();
     MpuNumeratorModel m;
@@ -458,7 +493,8 @@ MpuNumeratorModel mpuNumeratorModelWithin(const MpuField& field, const Box3& box
     sums.throughoutSharpThird = allSharpAnew ? 0.0 : outer.throughoutSharpThird;
     sums.scale = outer.scale;
     sumSingles(locals, c).addTo(taylor);
-    for (const uint32_t i : locals.sharp()) {
+    if (resolved) sumSingles(*resolved, c).addTo(taylor);
+    for (const uint32_t i : (resolved ? resolved : &locals)->sharp()) {
         const MpuLocal& l = field.locals()[i];
         if (anew(i)) {
             const Interval distance = box.distanceRange(l.center);

@@ -79,10 +79,11 @@ inline MpuTaylorRemainder mpuTaylorRemainder(double third, double rounding, doub
     return {third * r * r * r / 6.0 * scale + rounding, third * r * r / 2.0 * scale + rounding / std::max(rho, 1e-300)};
 }
 
-/// The locals of one list, gathered once for the many models of the boxes
-/// carved from one tracing cell (each sums the same list): single-piece
-/// locals as columns (ball, quadric, curvature), summed in vector lanes;
-/// sharp ones by index, since the piece they take changes from box to box.
+/// Locals of one piece laid out for vector sums: the single-piece locals of
+/// a tracing cell's list, gathered once for the many models of the boxes
+/// carved from it (each sums the same list), or the sharp locals an
+/// enclosing model resolved to one piece. Columns hold ball, quadric and
+/// curvature; sharp locals not taken as one piece are listed apart.
 class MpuLocalColumns {
 public:
     enum Column {
@@ -94,35 +95,53 @@ public:
 
     MpuLocalColumns() = default;
     MpuLocalColumns(const MpuField& field, std::span<const uint32_t> locals) { assign(field, locals); }
-    /// Takes the list `locals` (indices into field.locals()); reuses its storage.
+    /// The single-piece locals of `locals` (indices into field.locals()) as
+    /// columns, the others in sharp(); reuses its storage.
     void assign(const MpuField& field, std::span<const uint32_t> locals);
+    /// The sharp locals resolved to one piece for the boxes inside `outer`'s:
+    /// those `ancestor` (resolved by a model of a box holding outer's, if
+    /// any) holds as columns, and those of `sharp` (its sharp() or, without
+    /// it, the list's) whose crease does not cross outer's box, as columns of
+    /// the piece each takes all over it. The rest (all, where `outer` lost
+    /// count of its creases) go to sharp().
+    void assignResolved(const MpuField& field, const MpuLocalColumns* ancestor, std::span<const uint32_t> sharp,
+                        const MpuNumeratorModel& outer);
 
     size_t singleCount() const { return singleCount_; }
     /// Column c: singleCount() values, columns stride() apart.
     const double* column(Column c) const { return data_.data() + size_t(c) * stride_; }
     size_t stride() const { return stride_; }
-    /// The sharp locals' indices into field.locals().
+    /// Sharp locals' indices into field.locals().
     std::span<const uint32_t> sharp() const { return sharp_; }
 
 private:
+    void fill(const MpuField& field, std::span<const uint32_t> locals, std::span<const uint8_t> pieces);
+
     size_t singleCount_ = 0, stride_ = 0;
     std::vector<double> data_;
-    std::vector<uint32_t> sharp_;
+    std::vector<uint32_t> sharp_, indices_;  ///< indices_: each column's local
+    std::vector<uint8_t> pieces_;            ///< each column's piece, from its local's first
 };
 
 /// The model of N over `box` from a list of locals that holds every one
 /// whose ball reaches the box (others listed are skipped). The box must lie
-/// in the field's domain, and the field hold no interpolants.
-MpuNumeratorModel fitMpuNumeratorModel(const MpuField& field, const Box3& box, const MpuLocalColumns& locals);
+/// in the field's domain, and the field hold no interpolants. `resolved`,
+/// where given, holds the sharp locals of `locals` resolved by a model of
+/// a box holding this one (MpuLocalColumns::assignResolved): they are
+/// summed and bounded as single pieces, and its sharp() replace those of
+/// `locals`.
+MpuNumeratorModel fitMpuNumeratorModel(const MpuField& field, const Box3& box, const MpuLocalColumns& locals,
+                                       const MpuLocalColumns* resolved = nullptr);
 
 /// The model of N over `box`, which lies inside the box of `outer`: the
 /// single-piece locals' share of outer's bound on N's third derivatives
 /// holds in every box inside, so only their Taylor terms at the centre are
 /// summed (over the balls that hold it), not their bounds; so for sharp
-/// locals whose crease does not cross outer's box. Those whose crease does
-/// are bounded anew. Looser than a model of its own, a fraction of the work.
+/// locals whose crease does not cross outer's box (`resolved`, where given,
+/// holds them, resolved by `outer`). Those whose crease does are bounded
+/// anew. Looser than a model of its own, a fraction of the work.
 MpuNumeratorModel mpuNumeratorModelWithin(const MpuField& field, const Box3& box, const MpuLocalColumns& locals,
-                                          const MpuNumeratorModel& outer);
+                                          const MpuLocalColumns* resolved, const MpuNumeratorModel& outer);
 
 /// The range of value + gradient . y + y^T A y (A symmetric) over
 /// |y_k| <= half_k.

@@ -401,10 +401,13 @@ std::optional<CellAcceleration> MpuCellAccelerator::accelerate(const FieldProgra
     // level, modelled however loosely (the model still proves most signs,
     // and the exact search takes what it cannot).
     // The carved box's locals, gathered once for the models of every box
-    // carved from it.
+    // carved from it; and per level of splitting, its sharp locals that the
+    // model being split proves to take one piece all over its box (its
+    // children sum them as single pieces).
     MpuLocalColumns columns;
+    MpuLocalColumns resolvedAt[kMaxModelSplits + 1];
     auto keep = [&](auto&& self, const Box3& b, int splits, uint32_t first, uint32_t count,
-                    const MpuNumeratorModel* parent) -> void {
+                    const MpuNumeratorModel* parent, const MpuLocalColumns* resolved) -> void {
         const Vec3 half = 0.5 * b.extent();
         if (parent) {
             // The parent's model holds over this box too: it may prove it
@@ -430,16 +433,18 @@ std::optional<CellAcceleration> MpuCellAccelerator::accelerate(const FieldProgra
         // and bounding them anew costs three times as much.
         std::optional<MpuNumeratorModel> model;
         if (parent) {
-            model = mpuNumeratorModelWithin(field, b, columns, *parent);
+            model = mpuNumeratorModelWithin(field, b, columns, resolved, *parent);
             if (holdsNoSurface(*model)) return;
             if (!accurate(*model)) model.reset();
         }
         if (!model) {
-            model = fitMpuNumeratorModel(field, b, columns);
+            model = fitMpuNumeratorModel(field, b, columns, resolved);
             if (holdsNoSurface(*model)) return;
         }
         if (!accurate(*model) && splits < kMaxModelSplits) {
-            for (int k = 0; k < 8; ++k) self(self, b.octant(k), splits + 1, first, count, &*model);
+            MpuLocalColumns& within = resolvedAt[splits + 1];
+            within.assignResolved(field, resolved, (resolved ? resolved : &columns)->sharp(), *model);
+            for (int k = 0; k < 8; ++k) self(self, b.octant(k), splits + 1, first, count, &*model, &within);
             return;
         }
         // Embree is offered the box shrunk, two halvings deep, to where the
@@ -474,7 +479,7 @@ std::optional<CellAcceleration> MpuCellAccelerator::accelerate(const FieldProgra
         const size_t kept = parts.size();
         locals.insert(locals.end(), touching.begin(), touching.end());
         columns.assign(field, touching);
-        keep(keep, b, splits, first, count, nullptr);
+        keep(keep, b, splits, first, count, nullptr, nullptr);
         if (parts.size() == kept) locals.resize(first);  // no part holds surface
     };
     carve(carve, leafBox, 0);

@@ -1,7 +1,8 @@
 // The Taylor model of an MPU field's numerator must keep within its proven
 // errors everywhere in its box: value and slope along any direction,
 // against N summed exactly at random points; so must a model that takes
-// over the bounds of an outer box. Boxes of three sizes near the
+// over the bounds of an outer box, and both with the sharp locals the outer
+// box's model resolves to one piece. Boxes of three sizes near the
 // data, on a smooth fit with general quadrics (oni) and across the creases
 // of edge and corner functions (a drilled cube). The largest share of each
 // bound the errors reach is reported: a bound is only useful if it is not
@@ -24,7 +25,8 @@ struct Reach {
     double value = 0.0, slope = 0.0;  ///< largest error over its bound
 };
 
-void expectWithinBounds(const MpuField& field, const std::vector<MpuPoint>& points, Reach& reach) {
+void expectWithinBounds(const MpuField& field, const std::vector<MpuPoint>& points, Reach& reach,
+                        size_t& resolvedCount) {
     const Box3 domain = field.bounds();
     const double diagonal = domain.extent().norm();
     std::mt19937 rng(3);
@@ -49,11 +51,19 @@ void expectWithinBounds(const MpuField& field, const std::vector<MpuPoint>& poin
             ++boxes;
             field.localsTouching(outer, locals);
             const MpuLocalColumns columns(field, locals);
-            const MpuNumeratorModel own = fitMpuNumeratorModel(field, box, columns);
-            const MpuNumeratorModel within =
-                mpuNumeratorModelWithin(field, box, columns, fitMpuNumeratorModel(field, outer, columns));
-            for (int k = 0; k < 80; ++k) {
-                const MpuNumeratorModel& m = k < 40 ? own : within;
+            const MpuNumeratorModel outerModel = fitMpuNumeratorModel(field, outer, columns);
+            // The sharp locals the outer model resolves to one piece, summed
+            // and bounded as single pieces by the inner box's models.
+            MpuLocalColumns resolved;
+            resolved.assignResolved(field, nullptr, columns.sharp(), outerModel);
+            resolvedCount += resolved.singleCount();
+            const MpuNumeratorModel models[4] = {
+                fitMpuNumeratorModel(field, box, columns),
+                mpuNumeratorModelWithin(field, box, columns, nullptr, outerModel),
+                fitMpuNumeratorModel(field, box, columns, &resolved),
+                mpuNumeratorModelWithin(field, box, columns, &resolved, outerModel)};
+            for (int k = 0; k < 160; ++k) {
+                const MpuNumeratorModel& m = models[k / 40];
                 ASSERT_TRUE(std::isfinite(m.valueError) && std::isfinite(m.slopeError));
                 // The corners first: the remainder grows with |x - c|^3.
                 const Vec3 corner(k & 1 ? 1.0 : -1.0, k & 2 ? 1.0 : -1.0, k & 4 ? 1.0 : -1.0);
@@ -61,10 +71,10 @@ void expectWithinBounds(const MpuField& field, const std::vector<MpuPoint>& poin
                 const MpuBlendSums exact = field.blendSums(x, locals);
                 Vec3 modelGradient;
                 const double model = m.at(x, &modelGradient);
-                ASSERT_LE(std::abs(exact.N - model), m.valueError) << "box " << i << " of size " << size;
+                ASSERT_LE(std::abs(exact.N - model), m.valueError) << "model " << k / 40 << ", box " << i << " of size " << size;
                 const Vec3 direction = Vec3(n(rng), n(rng), n(rng)).normalized();
                 const double slope = std::abs((exact.gradientN - modelGradient).dot(direction));
-                ASSERT_LE(slope, m.slopeError) << "box " << i << " of size " << size;
+                ASSERT_LE(slope, m.slopeError) << "model " << k / 40 << ", box " << i << " of size " << size;
                 reach.value = std::max(reach.value, std::abs(exact.N - model) / m.valueError);
                 reach.slope = std::max(reach.slope, slope / m.slopeError);
             }
@@ -82,7 +92,8 @@ TEST(MpuNumeratorModel, KeepsWithinItsErrorsOnASmoothFit) {
     MpuOptions options;
     options.sharpFeatures = false;
     Reach reach;
-    expectWithinBounds(MpuField::fit(points, options), points, reach);
+    size_t resolved = 0;
+    expectWithinBounds(MpuField::fit(points, options), points, reach, resolved);
     std::printf("smooth fit: errors reach %.3g of the value bound, %.3g of the slope bound\n", reach.value,
                 reach.slope);
 }
@@ -93,7 +104,9 @@ TEST(MpuNumeratorModel, KeepsWithinItsErrorsAcrossCreases) {
     const MpuField field = MpuField::fit(points, {}, &report);
     ASSERT_GT(report.edges + report.corners, 0u);
     Reach reach;
-    expectWithinBounds(field, points, reach);
+    size_t resolved = 0;
+    expectWithinBounds(field, points, reach, resolved);
+    EXPECT_GT(resolved, 100u);  // sharp locals taken as one piece were tested
     std::printf("sharp fit: errors reach %.3g of the value bound, %.3g of the slope bound\n", reach.value,
                 reach.slope);
 }
