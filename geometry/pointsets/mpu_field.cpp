@@ -1,4 +1,5 @@
 #include "geometry/pointsets/mpu_field.h"
+#include "geometry/pointsets/mpu_numerator_model.h"
 
 #include <Eigen/Dense>
 
@@ -23,25 +24,18 @@ void orthonormalFrame(const Vec3& n, Vec3& u, Vec3& v) {
 }  // namespace
 
 namespace {
-Interval square(Interval a) {
-    const double lo2 = a.lo * a.lo, hi2 = a.hi * a.hi;
-    if (a.lo <= 0 && a.hi >= 0) return {0.0, std::max(lo2, hi2)};
-    return {std::min(lo2, hi2), std::max(lo2, hi2)};
-}
 Interval maxOf(Interval a, Interval b) { return {std::max(a.lo, b.lo), std::max(a.hi, b.hi)}; }
 Interval minOf(Interval a, Interval b) { return {std::min(a.lo, b.lo), std::min(a.hi, b.hi)}; }
 }  // namespace
 
 Interval MpuQuadric::range(const Box3& box) const {
-    Interval y[3];
-    for (int k = 0; k < 3; ++k) y[k] = {box.lower[k] - origin[k], box.upper[k] - origin[k]};
-    Interval q{c0, c0};
-    for (int k = 0; k < 3; ++k) {
-        q += g[k] * y[k];
-        q += A(k, k) * square(y[k]);
-        for (int l = k + 1; l < 3; ++l) q += (2.0 * A(k, l)) * (y[k] * y[l]);
-    }
-    return widened(q);
+    // About the box's centre c: Q(c + y) = Q(c) + grad Q(c) . y + y^T A y
+    // with |y_k| <= h_k. Each term is bounded once; the plain interval
+    // extension in x - origin bounds g . y and y^T A y apart, losing their
+    // cancellation, and costs twice as much.
+    Vec3 gradient;
+    const double value = evaluate(box.center(), &gradient);
+    return widened(quadraticRange(value, gradient, A, 0.5 * box.extent()));
 }
 
 double MpuQuadric::gradientBound(const Box3& box) const {
