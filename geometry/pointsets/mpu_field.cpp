@@ -557,6 +557,18 @@ void MpuField::finish() {
     index(nearMargin_, nearStart_, nearItems_);
     // Each piece's |A| (Frobenius, at least the spectral norm, slightly
     // raised for rounding): its gradient g + 2 A y moves at most 2 |A| |dy|.
+    laneTable_.assign(size_t(kLaneColumns) * locals_.size(), 0.0);
+    for (size_t i = 0; i < locals_.size(); ++i) {
+        const Local& l = locals_[i];
+        if (l.combination != MpuCombination::Single) continue;
+        const MpuQuadric& q = pieces_[l.first];
+        Vec3 g;
+        const double c0 = q.evaluate(l.center, &g);
+        const double row[kLaneColumns] = {l.center.x(), l.center.y(), l.center.z(), 1.0 / (l.radius * l.radius),
+                                          c0, g.x(), g.y(), g.z(), q.A(0, 0), q.A(0, 1), q.A(0, 2), q.A(1, 1),
+                                          q.A(1, 2), q.A(2, 2)};
+        for (int c = 0; c < kLaneColumns; ++c) laneTable_[size_t(c) * locals_.size() + i] = row[c];
+    }
     pieceCurvatures_.resize(pieces_.size());
     for (size_t i = 0; i < pieces_.size(); ++i) pieceCurvatures_[i] = pieces_[i].A.norm() * (1 + 1e-12) + 1e-300;
     // An interpolant's evaluation sums its centres: the typical cost counts those.
@@ -672,9 +684,9 @@ double MpuField::valueAndGradient(const Vec3& p, Vec3& gradient, std::span<const
     });
 }
 
-double MpuField::numerator(const Vec3& p, std::span<const uint32_t> locals) const {
-    double N = kBackgroundWeight * background(p, nullptr);
-    for (const uint32_t i : locals) {
+double MpuField::numerator(const Vec3& p, MpuLocalList locals) const {
+    double N = kBackgroundWeight * background(p, nullptr) + singleLanesNumerator(p, locals.indices.first(locals.singles));
+    for (const uint32_t i : locals.indices.subspan(locals.singles)) {
         const Local& l = locals_[i];
         const double r2 = (p - l.center).squaredNorm(), R2 = l.radius * l.radius;
         if (r2 >= R2) continue;
@@ -684,10 +696,12 @@ double MpuField::numerator(const Vec3& p, std::span<const uint32_t> locals) cons
     return N;
 }
 
-MpuBlendSums MpuField::blendSums(const Vec3& p, std::span<const uint32_t> locals) const {
-    return sums(p, [&](auto&& visit) {
-        for (const uint32_t i : locals) visit(locals_[i]);
+MpuBlendSums MpuField::blendSums(const Vec3& p, MpuLocalList locals) const {
+    MpuBlendSums s = sums(p, [&](auto&& visit) {
+        for (const uint32_t i : locals.indices.subspan(locals.singles)) visit(locals_[i]);
     });
+    addSingleLanes(p, locals.indices.first(locals.singles), s);
+    return s;
 }
 
 double MpuField::valueAndSafeDistance(const Vec3& p, double& safeDistance) const {

@@ -115,6 +115,15 @@ T combineMpuPieces(const MpuLocal& l, const T* v, Larger larger, Smaller smaller
     return v[0];
 }
 
+/// A list of locals (indices into MpuField::locals()) whose first `singles`
+/// are single-piece locals, which sums over the list take in vector lanes.
+struct MpuLocalList {
+    std::span<const uint32_t> indices;
+    size_t singles = 0;
+
+    MpuLocalList(std::span<const uint32_t> all, size_t singleCount = 0) : indices(all), singles(singleCount) {}
+};
+
 /// The blend's sums at a point: f = N / W, with N = sum_i w_i Q_i and
 /// W = sum_i w_i (plus the background's term), and their gradients.
 struct MpuBlendSums {
@@ -151,9 +160,9 @@ public:
     double valueAndGradient(const Vec3& p, Vec3& gradient, std::span<const uint32_t> locals) const;
     /// N and W and their gradients from such a list (tracers that root-find
     /// on N, which has f's zeros and is smooth where f's quotient is not).
-    MpuBlendSums blendSums(const Vec3& p, std::span<const uint32_t> locals) const;
+    MpuBlendSums blendSums(const Vec3& p, MpuLocalList locals) const;
     /// N alone (its sign is f's).
-    double numerator(const Vec3& p, std::span<const uint32_t> locals) const;
+    double numerator(const Vec3& p, MpuLocalList locals) const;
     /// Indices of the locals whose ball reaches the box.
     void localsTouching(const Box3& box, std::vector<uint32_t>& out) const;
     /// The value, and a radius around p proven free of zeros: from the
@@ -206,6 +215,10 @@ private:
 
     template <class ForLocals>
     MpuBlendSums sums(const Vec3& p, ForLocals&& forLocals) const;
+    /// The single-piece locals' share of the sums, in vector lanes
+    /// (mpu_field_lanes.cpp, built for the machine's widest vectors).
+    void addSingleLanes(const Vec3& p, std::span<const uint32_t> singles, MpuBlendSums& s) const;
+    double singleLanesNumerator(const Vec3& p, std::span<const uint32_t> singles) const;
     template <class ForLocals>
     double blend(const Vec3& p, Vec3& gradient, ForLocals&& forLocals) const;
     double background(const Vec3& p, Vec3* gradient) const;
@@ -223,6 +236,12 @@ private:
     double nearMargin_ = 0.0;
     std::vector<uint32_t> nearStart_, nearItems_;
     std::vector<double> pieceCurvatures_;  ///< |A| of each piece
+    /// Each single-piece local by columns (locals_.size() apart), its
+    /// quadric taken about the ball's centre: Q = c0 + g . r + r^T A r,
+    /// r = x - centre (what the vector lanes gather). Other locals' rows
+    /// are zero.
+    enum LaneColumn { CenterX, CenterY, CenterZ, InverseRadius2, C0, Gx, Gy, Gz, Axx, Axy, Axz, Ayy, Ayz, Azz, kLaneColumns };
+    std::vector<double> laneTable_;
     double minimumWeight_ = 0.0;
     double backgroundMargin_ = 0.0;
     size_t typicalTerms_ = 1;

@@ -59,6 +59,7 @@ struct PartModel {
 struct MpuPart {
     Box3 box;  ///< in the leaf's frame
     uint32_t first = 0, count = 0;
+    uint32_t singles = 0;  ///< the list's single-piece locals, which come first
     Vec3 center = Vec3::Zero(), gradient = Vec3::Zero();
     double value = 0.0, band = 0.0;
     PartModel model;
@@ -93,7 +94,7 @@ public:
         CellTraceResult r;
         r.steps = 1;
         if (!(t1 >= t0)) return r;
-        const std::span<const uint32_t> locals(locals_.data() + part.first, part.count);
+        const MpuLocalList locals(std::span<const uint32_t>(locals_.data() + part.first, part.count), part.singles);
         const double tolerance = settings.epsilon / direction.norm();
         Vec3 gradient;
         const bool hit = modelledRoot(part, part.model, locals, o, d, t0, t1, tolerance, settings.anyHit, r, gradient);
@@ -107,14 +108,14 @@ public:
 private:
     // The first root in [t0, t1] by the exact polynomial search; on a hit,
     // r.t and the gradient there.
-    bool exactRoot(std::span<const uint32_t> locals, const Vec3& o, const Vec3& d, double t0, double t1,
+    bool exactRoot(MpuLocalList locals, const Vec3& o, const Vec3& d, double t0, double t1,
                    double tolerance, CellTraceResult& r, Vec3& gradient) const {
-        const MpuSegmentRoot root = firstRootAlongSegment(*field_, locals, o, d, t0, t1, tolerance);
+        const MpuSegmentRoot root = firstRootAlongSegment(*field_, locals.indices, o, d, t0, t1, tolerance);
         r.steps += root.pieces;
         r.evaluations += uint64_t(root.localTerms);
         if (!root.hit) return false;
         r.t = root.t;
-        field_->valueAndGradient(o + root.t * d, gradient, locals);
+        gradient = field_->blendSums(o + root.t * d, locals).gradient();
         return true;
     }
 
@@ -123,7 +124,7 @@ private:
     // With anyHit (an occlusion query), a root proven between two signs is
     // enough: it is reported halfway, with the model's gradient, and N is
     // not evaluated to settle it.
-    bool modelledRoot(const MpuPart& part, const PartModel& m, std::span<const uint32_t> locals, const Vec3& o,
+    bool modelledRoot(const MpuPart& part, const PartModel& m, MpuLocalList locals, const Vec3& o,
                       const Vec3& d, double t0, double t1, double tolerance, bool anyHit, CellTraceResult& r,
                       Vec3& gradient) const {
         const NearErrors whole = nearErrors(part, m, o, d, t0, t1);
@@ -152,7 +153,7 @@ private:
     // leave undecided is looked at again with the errors of its own
     // distance from the centre (Taylor's remainder grows as its cube), if
     // allowed and clearly smaller, before the exact search takes it.
-    bool spansRoot(const MpuPart& part, const PartModel& m, std::span<const uint32_t> locals, const Vec3& o,
+    bool spansRoot(const MpuPart& part, const PartModel& m, MpuLocalList locals, const Vec3& o,
                    const Vec3& d, double t0, double t1, double e, double slopeErrorPerUnit, int outerLeft,
                    int outerRight, bool mayNarrow, double tolerance, bool anyHit, CellTraceResult& r,
                    Vec3& gradient) const {
@@ -223,7 +224,7 @@ private:
                 const Vec3 x = o + t * d;
                 if (lastSign_.field == field_->id() && lastSign_.point == x) return lastSign_.sign;
                 const double n = field_->numerator(x, locals);
-                r.evaluations += locals.size();
+                r.evaluations += locals.indices.size();
                 ++r.steps;
                 lastSign_ = {field_->id(), x, n > 0 ? 1 : n < 0 ? -1 : 0};
                 return lastSign_.sign;
@@ -274,11 +275,11 @@ private:
     // root is proven there without N's sign at the span's end; only where it
     // does not is the end's sign asked (signAt).
     template <class SignAt>
-    bool monotoneRoot(std::span<const uint32_t> locals, const Vec3& o, const Vec3& d, double a, double b, int left,
+    bool monotoneRoot(MpuLocalList locals, const Vec3& o, const Vec3& d, double a, double b, int left,
                       int right, bool rising, double least, double curvature, double p, SignAt&& signAt,
                       double tolerance, CellTraceResult& r, Vec3& gradient) const {
         const MpuBlendSums sums = field_->blendSums(o + p * d, locals);
-        r.evaluations += locals.size();
+        r.evaluations += locals.indices.size();
         ++r.steps;
         const double n = sums.N;
         if (n == 0.0) {
@@ -322,13 +323,13 @@ private:
     // step from p lands within curvature delta^2 / (2 least) of it: when
     // that is within tolerance, the step is taken without evaluating N at
     // its end (the gradient is p's, delta away).
-    bool settledRoot(std::span<const uint32_t> locals, const Vec3& o, const Vec3& d, double a, double b, int left,
+    bool settledRoot(MpuLocalList locals, const Vec3& o, const Vec3& d, double a, double b, int left,
                      double least, double curvature, double p, MpuBlendSums sums, double tolerance,
                      CellTraceResult& r, Vec3& gradient) const {
         for (int iteration = 0; iteration < 100; ++iteration) {
             if (iteration > 0) {
                 sums = field_->blendSums(o + p * d, locals);
-                r.evaluations += locals.size();
+                r.evaluations += locals.indices.size();
                 ++r.steps;
             }
             const double n = sums.N;
@@ -465,6 +466,7 @@ std::optional<CellAcceleration> MpuCellAccelerator::accelerate(const FieldProgra
         part.model = PartModel(m);
         part.first = first;
         part.count = count;
+        part.singles = uint32_t(columns.singleCount());
         parts.push_back(part);
     };
     auto carve = [&](auto&& self, const Box3& b, int splits) -> void {
@@ -477,6 +479,10 @@ std::optional<CellAcceleration> MpuCellAccelerator::accelerate(const FieldProgra
         }
         const uint32_t first = uint32_t(locals.size()), count = uint32_t(touching.size());
         const size_t kept = parts.size();
+        // Single-piece locals first: a part's sums take them in vector lanes.
+        std::stable_partition(touching.begin(), touching.end(), [&](uint32_t i) {
+            return field.locals()[i].combination == MpuCombination::Single;
+        });
         locals.insert(locals.end(), touching.begin(), touching.end());
         columns.assign(field, touching);
         keep(keep, b, splits, first, count, nullptr, nullptr);

@@ -3,12 +3,14 @@
 // between the points, is negative inside, and bad options are refused.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 
 #include "geometry/description/field_parser.h"
 #include "geometry/pointsets/mpu_field.h"
 #include "geometry/variational/constraints.h"
+#include "support/drilled_cube.h"
 #include "support/test_data.h"
 
 using namespace isotrace::geometry;
@@ -189,4 +191,36 @@ TEST(MpuField, RangesHoldTheValuesInTheirBoxes) {
         }
     }
     EXPECT_GT(excluding, 300) << "ranges prove most boxes away from the surface empty";
+}
+
+// A tracer's list with its single-piece locals first sums those in vector
+// lanes: N, W and their gradients must be the plain sums', for lists of
+// every length modulo the lane count (partial runs of lanes), on a fit with
+// sharp locals among the single ones.
+TEST(MpuField, SumsInVectorLanesAreThePlainSums) {
+    const MpuField f = MpuField::fit(isotrace::testing::sampleDrilledCube(20000, 5));
+    const Box3 domain = f.bounds();
+    std::mt19937_64 rng(11);
+    std::uniform_real_distribution<double> u(0, 1);
+    std::vector<uint32_t> list;
+    int mixed = 0;
+    for (int trial = 0; trial < 400; ++trial) {
+        const Vec3 p = domain.lower + Vec3(u(rng), u(rng), u(rng)).cwiseProduct(domain.extent());
+        f.localsTouching(Box3(p, p), list);
+        // Not every local of the list: every length, both kinds.
+        list.resize(list.size() - rng() % (list.size() / 2 + 1));
+        std::stable_partition(list.begin(), list.end(),
+                              [&](uint32_t i) { return f.locals()[i].combination == MpuCombination::Single; });
+        size_t singles = 0;
+        while (singles < list.size() && f.locals()[list[singles]].combination == MpuCombination::Single) ++singles;
+        mixed += singles > 0 && singles < list.size();
+        const MpuBlendSums plain = f.blendSums(p, {list}), lanes = f.blendSums(p, {list, singles});
+        const double scale = 1e-12 * (1.0 + std::abs(plain.N) + plain.gradientN.norm() + plain.W);
+        ASSERT_NEAR(lanes.N, plain.N, scale) << "trial " << trial << ", " << singles << " of " << list.size();
+        ASSERT_NEAR(lanes.W, plain.W, scale) << "trial " << trial;
+        ASSERT_LE((lanes.gradientN - plain.gradientN).norm(), scale) << "trial " << trial;
+        ASSERT_LE((lanes.gradientW - plain.gradientW).norm(), scale) << "trial " << trial;
+        ASSERT_NEAR(f.numerator(p, {list, singles}), plain.N, scale) << "trial " << trial;
+    }
+    EXPECT_GT(mixed, 50) << "lists holding both kinds of local were tested";
 }

@@ -68,7 +68,7 @@ void expectWithinBounds(const MpuField& field, const std::vector<MpuPoint>& poin
                 // The corners first: the remainder grows with |x - c|^3.
                 const Vec3 corner(k & 1 ? 1.0 : -1.0, k & 2 ? 1.0 : -1.0, k & 4 ? 1.0 : -1.0);
                 const Vec3 x = near + (k % 40 < 8 ? corner : Vec3(u(rng), u(rng), u(rng))).cwiseProduct(half);
-                const MpuBlendSums exact = field.blendSums(x, locals);
+                const MpuBlendSums exact = field.blendSums(x, {locals});
                 Vec3 modelGradient;
                 const double model = m.at(x, &modelGradient);
                 ASSERT_LE(std::abs(exact.N - model), m.valueError) << "model " << k / 40 << ", box " << i << " of size " << size;
