@@ -627,6 +627,13 @@ void MpuField::localsTouching(const Box3& box, std::vector<uint32_t>& out) const
     forLocalsTouching(box, [&](const Local& l, const Interval&) { out.push_back(uint32_t(&l - locals_.data())); });
 }
 
+MpuLocalList MpuField::singlesFirst(std::span<uint32_t> list) const {
+    const auto end = std::stable_partition(list.begin(), list.end(), [&](uint32_t i) {
+        return locals_[i].combination == MpuCombination::Single;
+    });
+    return {list, size_t(end - list.begin())};
+}
+
 double MpuField::value(const Vec3& p) const {
     Vec3 unused;
     return valueAndGradient(p, unused);

@@ -40,6 +40,9 @@
 
 namespace isotrace::geometry {
 
+template <int Degree>
+class SegmentPolynomialSum;
+
 struct MpuPoint {
     Vec3 position;
     Vec3 normal;  ///< outward, unit
@@ -165,6 +168,9 @@ public:
     double numerator(const Vec3& p, MpuLocalList locals) const;
     /// Indices of the locals whose ball reaches the box.
     void localsTouching(const Box3& box, std::vector<uint32_t>& out) const;
+    /// The list in the order MpuLocalList asks for: its single-piece locals
+    /// moved to the front (order among each kind kept).
+    MpuLocalList singlesFirst(std::span<uint32_t> list) const;
     /// The value, and a radius around p proven free of zeros: from the
     /// Lipschitz bound over a small box around p, far tighter than a
     /// tracing cell's (the weights' slopes there multiply only the local
@@ -219,6 +225,16 @@ private:
     /// (mpu_field_lanes.cpp, built for the machine's widest vectors).
     void addSingleLanes(const Vec3& p, std::span<const uint32_t> singles, MpuBlendSums& s) const;
     double singleLanesNumerator(const Vec3& p, std::span<const uint32_t> singles) const;
+
+public:
+    /// Adds to `sum` the single-piece locals' terms w_i Q_i along the
+    /// segment p0 + u D, u in [0, 1], as polynomials of degree 8 on the span
+    /// of u inside each ball, in vector lanes; returns how many balls the
+    /// segment meets (pointsets/mpu_ray_segment.h sums the rest).
+    int addSinglesAlongSegment(const Vec3& p0, const Vec3& D, std::span<const uint32_t> singles,
+                               SegmentPolynomialSum<8>& sum) const;
+
+private:
     template <class ForLocals>
     double blend(const Vec3& p, Vec3& gradient, ForLocals&& forLocals) const;
     double background(const Vec3& p, Vec3* gradient) const;

@@ -6,6 +6,7 @@
 
 #include "geometry/lanes.h"
 #include "geometry/pointsets/mpu_field.h"
+#include "geometry/segment_polynomial.h"
 
 namespace isotrace::geometry {
 
@@ -81,6 +82,65 @@ double MpuField::singleLanesNumerator(const Vec3& p, std::span<const uint32_t> s
         N += sigma * sigma * sigma * q;
     });
     return reduce(N);
+}
+
+int MpuField::addSinglesAlongSegment(const Vec3& p0, const Vec3& D, std::span<const uint32_t> singles,
+                                     SegmentPolynomialSum<8>& sum) const {
+    const double DD = D.squaredNorm();
+    Lanes whole[9] = {};  // the sum of the terms whose ball holds the whole segment
+    int met = 0;
+    forLaneRuns(laneTable_, locals_.size(), singles, [&](auto&& load, const Lanes::mask_type& valid) {
+        using std::experimental::sqrt, std::experimental::popcount;
+        // s(u) = 1 - |r0 + u D|^2 / R^2 = s0 + s1 u + s2 u^2; the ball is s > 0,
+        // between u = (-r0D -+ sqrt(disc)) / DD.
+        const Lanes rx = p0.x() - load(CenterX), ry = p0.y() - load(CenterY), rz = p0.z() - load(CenterZ);
+        const Lanes inverseR2 = load(InverseRadius2);
+        const Lanes r0D = rx * D.x() + ry * D.y() + rz * D.z(), r0r0 = rx * rx + ry * ry + rz * rz;
+        const Lanes disc = r0D * r0D + DD * (1.0 / inverseR2 - r0r0);
+        const Lanes root = sqrt(select(disc > 0.0, disc, Lanes(0.0)));
+        const Lanes enter = greater(Lanes((-r0D - root) / DD), Lanes(0.0)),
+                    leave = lesser(Lanes((-r0D + root) / DD), Lanes(1.0));
+        const Lanes::mask_type meets = valid && disc > 0.0 && enter < leave;
+        if (none_of(meets)) return;
+        met += popcount(meets);
+        const Lanes s0 = 1.0 - r0r0 * inverseR2, s1 = -2.0 * r0D * inverseR2, s2 = Lanes(-DD) * inverseR2;
+        // s^2 and s^3.
+        const Lanes a0 = s0 * s0, a1 = 2.0 * s0 * s1, a2 = s1 * s1 + 2.0 * s0 * s2, a3 = 2.0 * s1 * s2, a4 = s2 * s2;
+        const Lanes w[7] = {a0 * s0, a0 * s1 + a1 * s0, a0 * s2 + a1 * s1 + a2 * s0, a1 * s2 + a2 * s1 + a3 * s0,
+                            a2 * s2 + a3 * s1 + a4 * s0, a3 * s2 + a4 * s1, a4 * s2};
+        // Q along the segment, about the ball's centre: q0 + q1 u + q2 u^2.
+        const Lanes axx = load(Axx), axy = load(Axy), axz = load(Axz), ayy = load(Ayy), ayz = load(Ayz),
+                    azz = load(Azz);
+        const Lanes arx = axx * rx + axy * ry + axz * rz, ary = axy * rx + ayy * ry + ayz * rz,
+                    arz = axz * rx + ayz * ry + azz * rz;
+        const Lanes adx = axx * D.x() + axy * D.y() + axz * D.z(), ady = axy * D.x() + ayy * D.y() + ayz * D.z(),
+                    adz = axz * D.x() + ayz * D.y() + azz * D.z();
+        const Lanes gx = load(Gx), gy = load(Gy), gz = load(Gz);
+        const Lanes q0 = load(C0) + (gx * rx + gy * ry + gz * rz) + (rx * arx + ry * ary + rz * arz);
+        const Lanes q1 = (gx * D.x() + gy * D.y() + gz * D.z()) + 2.0 * (rx * adx + ry * ady + rz * adz);
+        const Lanes q2 = D.x() * adx + D.y() * ady + D.z() * adz;
+        Lanes term[9];
+        for (int k = 0; k <= 8; ++k) term[k] = 0.0;
+        for (int i = 0; i <= 6; ++i) {
+            term[i] += w[i] * q0;
+            term[i + 1] += w[i] * q1;
+            term[i + 2] += w[i] * q2;
+        }
+        const Lanes::mask_type throughout = meets && enter <= 0.0 && leave >= 1.0;
+        for (int k = 0; k <= 8; ++k) whole[k] += select(throughout, term[k], Lanes(0.0));
+        const Lanes::mask_type partly = meets && !throughout;
+        if (none_of(partly)) return;
+        for (size_t j = 0; j < Lanes::size(); ++j) {
+            if (!partly[j]) continue;
+            Monomials<8> poly;
+            for (int k = 0; k <= 8; ++k) poly[k] = term[k][j];
+            sum.add(poly, enter[j], leave[j]);
+        }
+    });
+    Monomials<8> poly;
+    for (int k = 0; k <= 8; ++k) poly[k] = reduce(whole[k]);
+    sum.add(poly, 0.0, 1.0);
+    return met;
 }
 
 }  // namespace isotrace::geometry

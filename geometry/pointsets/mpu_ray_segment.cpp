@@ -38,7 +38,7 @@ PieceChoice smallerChoice(const PieceChoice& a, const PieceChoice& b) { return a
 
 }  // namespace
 
-MpuSegmentRoot firstRootAlongSegment(const MpuField& field, std::span<const uint32_t> locals, const Vec3& origin,
+MpuSegmentRoot firstRootAlongSegment(const MpuField& field, MpuLocalList locals, const Vec3& origin,
                                      const Vec3& direction, double t0, double t1, double tolerance) {
     MpuSegmentRoot result;
     if (!(t1 > t0)) return result;
@@ -51,7 +51,9 @@ MpuSegmentRoot firstRootAlongSegment(const MpuField& field, std::span<const uint
     sum.addConstant(MpuField::kBackgroundWeight * field.backgroundMargin());
     const std::vector<MpuLocal>& all = field.locals();
     const std::vector<MpuQuadric>& pieces = field.pieces();
-    for (const uint32_t index : locals) {
+    // The list's single-piece locals in vector lanes; the sharp ones here.
+    result.localTerms = field.addSinglesAlongSegment(p0, D, locals.indices.first(locals.singles), sum);
+    for (const uint32_t index : locals.indices.subspan(locals.singles)) {
         const MpuLocal& l = all[index];
         // s(u) = 1 - |p0 + u D - c|^2 / R^2 = s0 + s1 u + s2 u^2; the ball is
         // s > 0. Most balls listed for a part miss the segment: test R^2 s

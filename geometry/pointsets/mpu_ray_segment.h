@@ -29,7 +29,7 @@ struct MpuSegmentRoot {
 /// to within `tolerance` in t. `locals` must hold every local whose ball
 /// reaches the segment, and the segment must lie in the field's domain
 /// (where the background term is constant).
-MpuSegmentRoot firstRootAlongSegment(const MpuField& field, std::span<const uint32_t> locals, const Vec3& origin,
+MpuSegmentRoot firstRootAlongSegment(const MpuField& field, MpuLocalList locals, const Vec3& origin,
                                      const Vec3& direction, double t0, double t1, double tolerance);
 
 }  // namespace isotrace::geometry

@@ -110,7 +110,7 @@ private:
     // r.t and the gradient there.
     bool exactRoot(MpuLocalList locals, const Vec3& o, const Vec3& d, double t0, double t1,
                    double tolerance, CellTraceResult& r, Vec3& gradient) const {
-        const MpuSegmentRoot root = firstRootAlongSegment(*field_, locals.indices, o, d, t0, t1, tolerance);
+        const MpuSegmentRoot root = firstRootAlongSegment(*field_, locals, o, d, t0, t1, tolerance);
         r.steps += root.pieces;
         r.evaluations += uint64_t(root.localTerms);
         if (!root.hit) return false;
@@ -479,10 +479,7 @@ std::optional<CellAcceleration> MpuCellAccelerator::accelerate(const FieldProgra
         }
         const uint32_t first = uint32_t(locals.size()), count = uint32_t(touching.size());
         const size_t kept = parts.size();
-        // Single-piece locals first: a part's sums take them in vector lanes.
-        std::stable_partition(touching.begin(), touching.end(), [&](uint32_t i) {
-            return field.locals()[i].combination == MpuCombination::Single;
-        });
+        field.singlesFirst(touching);  // a part's sums take those in vector lanes
         locals.insert(locals.end(), touching.begin(), touching.end());
         columns.assign(field, touching);
         keep(keep, b, splits, first, count, nullptr, nullptr);

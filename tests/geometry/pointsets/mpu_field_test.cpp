@@ -209,10 +209,7 @@ TEST(MpuField, SumsInVectorLanesAreThePlainSums) {
         f.localsTouching(Box3(p, p), list);
         // Not every local of the list: every length, both kinds.
         list.resize(list.size() - rng() % (list.size() / 2 + 1));
-        std::stable_partition(list.begin(), list.end(),
-                              [&](uint32_t i) { return f.locals()[i].combination == MpuCombination::Single; });
-        size_t singles = 0;
-        while (singles < list.size() && f.locals()[list[singles]].combination == MpuCombination::Single) ++singles;
+        const size_t singles = f.singlesFirst(list).singles;
         mixed += singles > 0 && singles < list.size();
         const MpuBlendSums plain = f.blendSums(p, {list}), lanes = f.blendSums(p, {list, singles});
         const double scale = 1e-12 * (1.0 + std::abs(plain.N) + plain.gradientN.norm() + plain.W);

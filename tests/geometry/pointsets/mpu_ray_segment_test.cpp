@@ -1,6 +1,7 @@
 // Rays against MPU fields solved on N's piecewise polynomial, against the
 // field itself sampled densely along the same segments: the first sign
-// change is found, none is skipped, and the root is a zero of the field.
+// change is found, none is skipped, and the root is a zero of the field;
+// single-piece locals summed in vector lanes give the same root.
 // Fits with general quadrics (oni's sparse horns) and with edge and corner
 // functions (a drilled cube) cover every kind of local.
 #include <gtest/gtest.h>
@@ -36,7 +37,16 @@ void expectFirstRootsAlongSegments(const MpuField& field, const std::vector<MpuP
         around.extend(b);
         field.localsTouching(around, locals);
         const double tolerance = 1e-9 * diagonal;
-        const MpuSegmentRoot root = firstRootAlongSegment(field, locals, origin, direction, t0, t1, tolerance);
+        // The list as it comes, and with its single-piece locals first (summed
+        // in vector lanes): the same first root.
+        const MpuSegmentRoot root = firstRootAlongSegment(field, {locals}, origin, direction, t0, t1, tolerance);
+        const MpuSegmentRoot inLanes =
+            firstRootAlongSegment(field, field.singlesFirst(locals), origin, direction, t0, t1, tolerance);
+        ASSERT_EQ(inLanes.hit, root.hit) << "segment " << i;
+        if (root.hit) {
+            ASSERT_NEAR(inLanes.t, root.t, 2.0 * tolerance) << "segment " << i;
+        }
+        ASSERT_EQ(inLanes.localTerms, root.localTerms) << "segment " << i;
         constexpr int kSamples = 4000;
         const double step = (t1 - t0) / kSamples;
         double expected = -1, previous = field.value(a);
