@@ -12,6 +12,12 @@ namespace isotrace::geometry {
 /// Doubles in the widest vector the build targets.
 using Lanes = std::experimental::native_simd<double>;
 
+/// The first `count` lanes (a run of fewer locals than lanes).
+inline Lanes::mask_type firstLanes(size_t count) {
+    const Lanes lane([](auto j) { return double(j); });
+    return lane < double(count);
+}
+
 /// chosen ? a : b, lane by lane for vectors.
 template <class Mask, class T>
 [[gnu::always_inline]] inline T select(const Mask& chosen, const T& a, const T& b) {

@@ -555,8 +555,7 @@ void MpuField::finish() {
     };
     index(0.0, cellStart_, cellItems_);
     index(nearMargin_, nearStart_, nearItems_);
-    // Each piece's |A| (Frobenius, at least the spectral norm, slightly
-    // raised for rounding): its gradient g + 2 A y moves at most 2 |A| |dy|.
+    // The single-piece locals' lane table, each quadric about its ball's centre.
     laneTable_.assign(size_t(kLaneColumns) * locals_.size(), 0.0);
     for (size_t i = 0; i < locals_.size(); ++i) {
         const Local& l = locals_[i];
@@ -569,6 +568,8 @@ void MpuField::finish() {
                                           q.A(1, 2), q.A(2, 2)};
         for (int c = 0; c < kLaneColumns; ++c) laneTable_[size_t(c) * locals_.size() + i] = row[c];
     }
+    // Each piece's |A| (Frobenius, at least the spectral norm, slightly
+    // raised for rounding): its gradient g + 2 A y moves at most 2 |A| |dy|.
     pieceCurvatures_.resize(pieces_.size());
     for (size_t i = 0; i < pieces_.size(); ++i) pieceCurvatures_[i] = pieces_[i].A.norm() * (1 + 1e-12) + 1e-300;
     // An interpolant's evaluation sums its centres: the typical cost counts those.
@@ -692,8 +693,8 @@ double MpuField::valueAndGradient(const Vec3& p, Vec3& gradient, std::span<const
 }
 
 double MpuField::numerator(const Vec3& p, MpuLocalList locals) const {
-    double N = kBackgroundWeight * background(p, nullptr) + singleLanesNumerator(p, locals.indices.first(locals.singles));
-    for (const uint32_t i : locals.indices.subspan(locals.singles)) {
+    double N = kBackgroundWeight * background(p, nullptr) + singleLanesNumerator(p, locals.singleLocals());
+    for (const uint32_t i : locals.otherLocals()) {
         const Local& l = locals_[i];
         const double r2 = (p - l.center).squaredNorm(), R2 = l.radius * l.radius;
         if (r2 >= R2) continue;
@@ -705,9 +706,9 @@ double MpuField::numerator(const Vec3& p, MpuLocalList locals) const {
 
 MpuBlendSums MpuField::blendSums(const Vec3& p, MpuLocalList locals) const {
     MpuBlendSums s = sums(p, [&](auto&& visit) {
-        for (const uint32_t i : locals.indices.subspan(locals.singles)) visit(locals_[i]);
+        for (const uint32_t i : locals.otherLocals()) visit(locals_[i]);
     });
-    addSingleLanes(p, locals.indices.first(locals.singles), s);
+    addSingleLanes(p, locals.singleLocals(), s);
     return s;
 }
 

@@ -125,6 +125,9 @@ struct MpuLocalList {
     size_t singles = 0;
 
     MpuLocalList(std::span<const uint32_t> all, size_t singleCount = 0) : indices(all), singles(singleCount) {}
+    std::span<const uint32_t> singleLocals() const { return indices.first(singles); }
+    /// The rest, summed one by one.
+    std::span<const uint32_t> otherLocals() const { return indices.subspan(singles); }
 };
 
 /// The blend's sums at a point: f = N / W, with N = sum_i w_i Q_i and
@@ -166,6 +169,12 @@ public:
     MpuBlendSums blendSums(const Vec3& p, MpuLocalList locals) const;
     /// N alone (its sign is f's).
     double numerator(const Vec3& p, MpuLocalList locals) const;
+    /// Adds to `sum` the single-piece locals' terms w_i Q_i along the
+    /// segment p0 + u D, u in [0, 1], as polynomials of degree 8 on the span
+    /// of u inside each ball, in vector lanes; returns how many balls the
+    /// segment meets (pointsets/mpu_ray_segment.h sums the rest).
+    int addSinglesAlongSegment(const Vec3& p0, const Vec3& D, std::span<const uint32_t> singles,
+                               SegmentPolynomialSum<8>& sum) const;
     /// Indices of the locals whose ball reaches the box.
     void localsTouching(const Box3& box, std::vector<uint32_t>& out) const;
     /// The list in the order MpuLocalList asks for: its single-piece locals
@@ -225,16 +234,6 @@ private:
     /// (mpu_field_lanes.cpp, built for the machine's widest vectors).
     void addSingleLanes(const Vec3& p, std::span<const uint32_t> singles, MpuBlendSums& s) const;
     double singleLanesNumerator(const Vec3& p, std::span<const uint32_t> singles) const;
-
-public:
-    /// Adds to `sum` the single-piece locals' terms w_i Q_i along the
-    /// segment p0 + u D, u in [0, 1], as polynomials of degree 8 on the span
-    /// of u inside each ball, in vector lanes; returns how many balls the
-    /// segment meets (pointsets/mpu_ray_segment.h sums the rest).
-    int addSinglesAlongSegment(const Vec3& p0, const Vec3& D, std::span<const uint32_t> singles,
-                               SegmentPolynomialSum<8>& sum) const;
-
-private:
     template <class ForLocals>
     double blend(const Vec3& p, Vec3& gradient, ForLocals&& forLocals) const;
     double background(const Vec3& p, Vec3* gradient) const;

@@ -20,7 +20,6 @@ using std::experimental::reduce;
 template <class Visit>
 void forLaneRuns(const std::vector<double>& table, size_t stride, std::span<const uint32_t> singles, Visit&& visit) {
     constexpr size_t kWidth = Lanes::size();
-    const Lanes lane([](auto j) { return double(j); });
     for (size_t first = 0; first < singles.size(); first += kWidth) {
         const size_t count = std::min(kWidth, singles.size() - first);
         uint32_t index[kWidth];
@@ -29,7 +28,7 @@ void forLaneRuns(const std::vector<double>& table, size_t stride, std::span<cons
             const double* values = table.data() + size_t(column) * stride;
             return Lanes([&](auto j) { return values[index[j]]; });
         };
-        visit(load, lane < double(count));
+        visit(load, firstLanes(count));
     }
 }
 

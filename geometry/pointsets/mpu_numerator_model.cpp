@@ -28,6 +28,13 @@ int pieceTaken(const MpuLocal& l, const double* v) {
         .index;
 }
 
+// The piece a local takes at point x.
+int pieceAt(const MpuField& field, const MpuLocal& l, const Vec3& x) {
+    double v[3];
+    for (int k = 0; k < l.count; ++k) v[k] = field.pieces()[l.first + k].evaluate(x, nullptr);
+    return pieceTaken(l, v);
+}
+
 // The piece a local takes at the box's centre, and whether it takes it all
 // over the box center +- half (false where its pieces cross there: a sharp
 // local's crease).
@@ -286,19 +293,14 @@ void MpuLocalColumns::assignResolved(const MpuField& field, const MpuLocalColumn
         pieces_.assign(ancestor->pieces_.begin(), ancestor->pieces_.end());
     }
     for (const uint32_t i : sharp) {
-        const bool creased = outer.creasedCount < 0 || std::find(outer.creased, outer.creased + outer.creasedCount, i) !=
-                                                           outer.creased + outer.creasedCount;
-        if (creased) {
+        if (outer.mayCrease(i)) {
             sharp_.push_back(i);
             continue;
         }
         // One piece all over the outer box: the one in effect at its centre
         // (any piece, for a ball that misses the box: it adds nothing).
-        const MpuLocal& l = field.locals()[i];
-        double v[3];
-        for (int k = 0; k < l.count; ++k) v[k] = field.pieces()[l.first + k].evaluate(outer.center, nullptr);
         indices_.push_back(i);
-        pieces_.push_back(uint8_t(pieceTaken(l, v)));
+        pieces_.push_back(uint8_t(pieceAt(field, field.locals()[i], outer.center)));
     }
     fill(field, indices_, pieces_);
 }
@@ -357,12 +359,6 @@ LaneTerms laneTerms(const LaneLoader& load, const Vec3& p, const Lanes::mask_typ
     return t;
 }
 
-// The lanes that hold locals: the first n - first of them.
-Lanes::mask_type validLanes(size_t first, size_t n) {
-    Lanes index([](auto lane) { return double(lane); });
-    return index < double(n - first);
-}
-
 // Sums of the single-piece locals' terms (the order of the sums changes
 // with the lane count, within their rounding allowance).
 struct SingleSums {
@@ -388,7 +384,7 @@ SingleSums sumSingles(const MpuLocalColumns& columns, const Vec3& c, const Box3*
     const size_t n = columns.singleCount();
     for (size_t first = 0; first < n; first += Lanes::size()) {
         const LaneLoader load{columns, first};
-        const Lanes::mask_type valid = validLanes(first, n);
+        const Lanes::mask_type valid = firstLanes(n - first);
         const LaneTerms t = laneTerms(load, c, valid);
         value += t.value;
         gx += t.gx;
@@ -479,14 +475,10 @@ MpuNumeratorModel mpuNumeratorModelWithin(const MpuField& field, const Box3& box
     MpuNumeratorModel m;
     m.center = c;
     m.value = MpuField::kBackgroundWeight * field.backgroundMargin();
-    // Which sharp locals are bounded anew: those whose crease crosses the
-    // outer box (their piece in effect differs from box to box), or all of
-    // them when outer lost count.
+    // Sharp locals whose crease may cross the outer box (their piece in
+    // effect differs from box to box) are bounded anew; all of them when
+    // outer lost count.
     const bool allSharpAnew = outer.creasedCount < 0;
-    auto anew = [&](uint32_t i) {
-        return allSharpAnew || std::find(outer.creased, outer.creased + outer.creasedCount, i) !=
-                                   outer.creased + outer.creasedCount;
-    };
     TaylorSums taylor;
     ErrorSums sums;
     sums.singleThird = outer.singleThird;
@@ -496,7 +488,7 @@ MpuNumeratorModel mpuNumeratorModelWithin(const MpuField& field, const Box3& box
     if (resolved) sumSingles(*resolved, c).addTo(taylor);
     for (const uint32_t i : (resolved ? resolved : &locals)->sharp()) {
         const MpuLocal& l = field.locals()[i];
-        if (anew(i)) {
+        if (outer.mayCrease(i)) {
             const Interval distance = box.distanceRange(l.center);
             if (distance.lo < l.radius) addLocal(field, i, distance, c, half, rho, taylor, sums, m);
             continue;
@@ -505,13 +497,10 @@ MpuNumeratorModel mpuNumeratorModelWithin(const MpuField& field, const Box3& box
         const double R2 = l.radius * l.radius;
         if (r.squaredNorm() >= R2) continue;
         // One piece all over the outer box: the one in effect at c.
-        const MpuQuadric* q = &field.pieces()[l.first];
-        double v[3];
-        for (int k = 0; k < l.count; ++k) v[k] = q[k].evaluate(c, nullptr);
-        const int piece = pieceTaken(l, v);
+        const MpuQuadric& q = field.pieces()[l.first + pieceAt(field, l, c)];
         Vec3 gq;
-        const double qc = q[piece].evaluate(c, &gq);
-        taylor.add(q[piece], qc, gq, r, R2);
+        const double qc = q.evaluate(c, &gq);
+        taylor.add(q, qc, gq, r, R2);
     }
     taylor.store(m);
     setErrors(m, sums, rho);

@@ -60,6 +60,12 @@ struct MpuNumeratorModel {
     uint32_t creased[kMaxCreased] = {};
     int creasedCount = 0;
 
+    /// The crease of sharp local `local` may cross the box (it is listed,
+    /// or the model lost count).
+    bool mayCrease(uint32_t local) const {
+        return creasedCount < 0 || std::find(creased, creased + creasedCount, local) != creased + creasedCount;
+    }
+
     /// T at x, and its gradient if asked.
     double at(const Vec3& x, Vec3* gradientAt = nullptr) const {
         const Vec3 y = x - center, hy = hessian * y;

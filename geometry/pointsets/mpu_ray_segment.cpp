@@ -52,8 +52,8 @@ MpuSegmentRoot firstRootAlongSegment(const MpuField& field, MpuLocalList locals,
     const std::vector<MpuLocal>& all = field.locals();
     const std::vector<MpuQuadric>& pieces = field.pieces();
     // The list's single-piece locals in vector lanes; the sharp ones here.
-    result.localTerms = field.addSinglesAlongSegment(p0, D, locals.indices.first(locals.singles), sum);
-    for (const uint32_t index : locals.indices.subspan(locals.singles)) {
+    result.localTerms = field.addSinglesAlongSegment(p0, D, locals.singleLocals(), sum);
+    for (const uint32_t index : locals.otherLocals()) {
         const MpuLocal& l = all[index];
         // s(u) = 1 - |p0 + u D - c|^2 / R^2 = s0 + s1 u + s2 u^2; the ball is
         // s > 0. Most balls listed for a part miss the segment: test R^2 s

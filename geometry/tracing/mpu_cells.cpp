@@ -113,9 +113,14 @@ private:
         const MpuSegmentRoot root = firstRootAlongSegment(*field_, locals, o, d, t0, t1, tolerance);
         r.steps += root.pieces;
         r.evaluations += uint64_t(root.localTerms);
-        if (!root.hit) return false;
-        r.t = root.t;
-        gradient = field_->blendSums(o + root.t * d, locals).gradient();
+        return root.hit && hitAt(root.t, locals, o, d, r, gradient);
+    }
+
+    // A hit at t, with N's gradient there.
+    bool hitAt(double t, MpuLocalList locals, const Vec3& o, const Vec3& d, CellTraceResult& r,
+               Vec3& gradient) const {
+        r.t = t;
+        gradient = field_->blendSums(o + t * d, locals).gradient();
         return true;
     }
 
@@ -246,11 +251,7 @@ private:
                 const bool aFirst = (model(0.5 * (s.a + s.b)) > 0) == rising;
                 for (int pass = 0; pass < 2 && !provesNone(); ++pass) {
                     if ((pass == 0) == aFirst) {
-                        if (left == 0 && (left = signAt(s.a)) == 0) {
-                            r.t = s.a;
-                            gradient = field_->blendSums(o + s.a * d, locals).gradient();
-                            return true;
-                        }
+                        if (left == 0 && (left = signAt(s.a)) == 0) return hitAt(s.a, locals, o, d, r, gradient);
                     } else if (right == 0 && (right = signAt(s.b)) == 0) {
                         right = rising ? 1 : -1;  // the root is s.b itself: N changes sign there
                     }
@@ -294,11 +295,7 @@ private:
         if (before) {
             lo = p - reach;
             if (lo < a) {
-                if (left == 0 && (left = signAt(a)) == 0) {
-                    r.t = a;
-                    gradient = field_->blendSums(o + a * d, locals).gradient();
-                    return true;
-                }
+                if (left == 0 && (left = signAt(a)) == 0) return hitAt(a, locals, o, d, r, gradient);
                 if (left == signP) return false;
                 lo = a;
             }
@@ -355,9 +352,7 @@ private:
             if (!(next > a && next < b) || iteration >= 8) next = 0.5 * (a + b);
             p = next;
         }
-        r.t = p;  // unreachable in practice: 100 halvings of a finite span
-        gradient = field_->blendSums(o + p * d, locals).gradient();
-        return true;
+        return hitAt(p, locals, o, d, r, gradient);  // unreachable in practice: 100 halvings of a finite span
     }
 
     // The last sign evaluated on this thread: a ray that leaves one part
