@@ -21,11 +21,13 @@ constexpr size_t kLocalsPerPart = 64;
 constexpr int kMaxSplits = 2;
 // A part is split further, down to kMaxModelSplits halvings, until the
 // error of its model of N (mpu_numerator_model.h) is below kModelTolerance
-// of its gradient times its half diagonal. Measured on the kitten and the
-// 37,822-vertex model (160x120): 0.1, 0.15 and 0.25 render in 0.12, 0.13
-// and 0.20 s (0.09, 0.10, 0.14) for 313, 291 and 244 MB (488, 436, 333);
-// looser, too few spans are proven monotone and the exact search takes them.
-constexpr double kModelTolerance = 0.15;
+// of its gradient times its half diagonal. Measured with bench/mpu_render
+// at 640x480, 16 spp, on the kitten and the 37,822-vertex model: 0.07, 0.1
+// and 0.15 render in 4.43, 4.42 and 4.70 s (3.08, 3.23, 3.49) after loads
+// of 2.42, 2.15 and 2.08 s (2.06, 2.04, 1.85), the larger model's peak
+// 535, 509 and 446 MB; looser, too few spans are proven monotone and the
+// exact search takes them, tighter, loading grows for little.
+constexpr double kModelTolerance = 0.1;
 constexpr int kMaxModelSplits = 4;
 
 // What a part's model adds to its centre, value and gradient (the model's
