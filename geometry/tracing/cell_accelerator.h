@@ -158,6 +158,10 @@ public:
     /// the scale of relative tolerances. Called in parallel for many cells.
     virtual std::optional<CellAcceleration> accelerate(const FieldProgram& cellProgram, const Box3& cellBox,
                                                        double surfaceDiagonal) const = 0;
+    /// Whether the accelerator marches the whole field in `box` faster as one
+    /// cell than as the octree's many, each of which costs a ray a call from
+    /// Embree: the surface is then offered `box` (its proven box) alone.
+    virtual bool marchesWholeField(const FieldProgram& /*field*/, const Box3& /*box*/) const { return false; }
 };
 
 }  // namespace isotrace::geometry

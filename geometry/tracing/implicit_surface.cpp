@@ -152,13 +152,15 @@ ImplicitSurface::ImplicitSurface(FieldProgram field, const ImplicitSurfaceOption
     RefinedLevel level = refineCells(root, field_, options);
     Box3 tight;
     for (const Box3& box : level.boxes) tight.extend(box);
-    if (!tight.isEmpty()) {
-        const Vec3 ratio = tight.extent().cwiseQuotient(root.extent());
-        if (ratio.prod() < kTighteningVolumeRatio) {
-            root = tight.expanded(1e-4 * tight.extent().norm());
-            level = refineCells(root, field_, options);
-        }
-    }
+    const bool tighten = !tight.isEmpty() && tight.extent().cwiseQuotient(root.extent()).prod() < kTighteningVolumeRatio;
+    if (tighten) root = tight.expanded(1e-4 * tight.extent().norm());
+    // An accelerator that marches the whole field best as one cell (a bare
+    // polynomial) is offered the proven box alone.
+    const bool whole = !tight.isEmpty() &&
+                       std::any_of(options.cellAccelerators.begin(), options.cellAccelerators.end(),
+                                   [&](const auto& accelerator) { return accelerator->marchesWholeField(field_, root); });
+    if (whole) level = {{root}, {std::make_shared<FieldProgram>(field_)}, {1}};
+    else if (tighten) level = refineCells(root, field_, options);
     refinementRoot_ = root;
 
     // Each cell's program, bound and acceleration (local models for bare

@@ -174,6 +174,13 @@ std::unique_ptr<const CellTracer> PolynomialCellAccelerator::tracerFor(const Pol
         std::static_pointer_cast<const PolynomialSurface<Degree>>(*shared), negated, part);
 }
 
+bool PolynomialCellAccelerator::marchesWholeField(const FieldProgram& field, const Box3& box) const {
+    const ShapeCell<PolynomialField> cell(field, box);
+    if (!cell.shape) return false;
+    const int degree = cell.shape->polynomial().degree();
+    return degree >= 1 && degree <= kMaxDegree;
+}
+
 std::optional<CellAcceleration> PolynomialCellAccelerator::accelerate(const FieldProgram& program, const Box3& box,
                                                                       double) const {
     const ShapeCell<PolynomialField> cell(program, box);
