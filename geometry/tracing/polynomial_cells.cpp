@@ -198,7 +198,9 @@ std::optional<CellAcceleration> PolynomialCellAccelerator::accelerate(const Fiel
     if (degree <= 2) a.tracer = tracerFor<2>(field, placement, key, cell.negated, cell.part);
     else if (degree <= 4) a.tracer = tracerFor<4>(field, placement, key, cell.negated, cell.part);
     else if (degree <= 6) a.tracer = tracerFor<6>(field, placement, key, cell.negated, cell.part);
-    else a.tracer = tracerFor<8>(field, placement, key, cell.negated, cell.part);
+    else if (degree <= 8) a.tracer = tracerFor<8>(field, placement, key, cell.negated, cell.part);
+    else if (degree <= 12) a.tracer = tracerFor<12>(field, placement, key, cell.negated, cell.part);
+    else a.tracer = tracerFor<16>(field, placement, key, cell.negated, cell.part);
     return a;
 }
 

@@ -17,8 +17,9 @@ namespace isotrace::geometry {
 class PolynomialCellAccelerator final : public CellAccelerator {
 public:
     /// Degrees above this are left to the sphere tracer (the Bernstein
-    /// hull's work grows with the square of the degree).
-    static constexpr int kMaxDegree = 8;
+    /// hull's work grows with the square of the degree). 16 takes every
+    /// preset: the decocube is of degree 12, pretzel4 of 16.
+    static constexpr int kMaxDegree = 16;
 
     std::optional<CellAcceleration> accelerate(const FieldProgram& cellProgram, const Box3& cellBox,
                                                double surfaceDiagonal) const override;

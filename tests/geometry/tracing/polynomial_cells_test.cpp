@@ -1,6 +1,7 @@
 // Algebraic surfaces traced through exact roots of the polynomial along each
 // ray must agree with the general sphere tracer on every ray: Goursat's
-// tangle (quartic), a turned and scaled quadric, and a sextic.
+// tangle (quartic), a turned and scaled quadric, a sextic, and the presets
+// of degree 12 and 16.
 #include <gtest/gtest.h>
 
 #include "geometry/description/field_parser.h"
@@ -42,6 +43,20 @@ TEST(PolynomialCells, HeartAgreesWithMarching) {
 TEST(PolynomialCells, PretzelOfDegreeEightAgreesWithMarching) {
     const FieldProgram program = compileField(R"({"type": "polynomial", "preset": "pretzel2"})");
     isotrace::testing::expectSameHitsAsMarching(program, 1500, 200, 20);
+}
+
+// Degrees above 8, up to 16, take the same search (the sphere tracer took
+// minutes over a small frame of the decocube): the decocube (degree 12, a
+// product of three quartics) and the four-holed pretzel (degree 16, whose
+// tube thins to 0.07 where its lobes turn).
+TEST(PolynomialCells, DecocubeOfDegreeTwelveAgreesWithMarching) {
+    const FieldProgram program = compileField(R"({"type": "polynomial", "preset": "decocube"})");
+    isotrace::testing::expectSameHitsAsMarching(program, 600, 100, 20);
+}
+
+TEST(PolynomialCells, PretzelOfDegreeSixteenAgreesWithMarching) {
+    const FieldProgram program = compileField(R"({"type": "polynomial", "preset": "pretzel4"})");
+    isotrace::testing::expectSameHitsAsMarching(program, 1500, 100, 10);
 }
 
 // The complement of a polynomial (what a difference leaves in the cells
