@@ -30,6 +30,11 @@ public:
 
 }  // namespace
 
+bool SphereCellAccelerator::marchesWholeField(const FieldProgram& field, const Box3& box) const {
+    const ShapeCell<SphereField> cell(field, box);
+    return cell.shape;
+}
+
 std::optional<CellAcceleration> SphereCellAccelerator::accelerate(const FieldProgram& program, const Box3& box,
                                                                   double) const {
     const ShapeCell<SphereField> cell(program, box);

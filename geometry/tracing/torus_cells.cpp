@@ -30,6 +30,11 @@ public:
 
 }  // namespace
 
+bool TorusCellAccelerator::marchesWholeField(const FieldProgram& field, const Box3& box) const {
+    const ShapeCell<TorusField> cell(field, box);
+    return cell.shape && cell.shape->minor < cell.shape->major;
+}
+
 std::optional<CellAcceleration> TorusCellAccelerator::accelerate(const FieldProgram& program, const Box3& box,
                                                                  double) const {
     const ShapeCell<TorusField> cell(program, box);

@@ -15,6 +15,8 @@ class TorusCellAccelerator final : public CellAccelerator {
 public:
     std::optional<CellAcceleration> accelerate(const FieldProgram& cellProgram, const Box3& cellBox,
                                                double surfaceDiagonal) const override;
+    /// A bare one is: its root along a ray costs the same in any box.
+    bool marchesWholeField(const FieldProgram& field, const Box3& box) const override;
 };
 
 }  // namespace isotrace::geometry

@@ -11,9 +11,11 @@ using isotrace::testing::compileField;
 
 TEST(ImplicitSurface, KeepsOnlyCellsThatMayHoldSurface) {
     // Split as deep as the octree goes (by default a distance field's cells
-    // stop at depth 1: see ImplicitSurfaceOptions::distanceCellDepth).
+    // stop at depth 1: see ImplicitSurfaceOptions::distanceCellDepth), and
+    // marched: the torus accelerator would take the bare torus as one cell.
     ImplicitSurfaceOptions deep;
     deep.distanceCellDepth = deep.maxDepth;
+    deep.cellAccelerators.clear();
     ImplicitSurface surface(compileField(R"({"type": "torus", "major": 1, "minor": 0.3})"), deep);
     ASSERT_FALSE(surface.cells().empty());
     for (const SurfaceCell& cell : surface.cells()) {
@@ -27,7 +29,8 @@ TEST(ImplicitSurface, KeepsOnlyCellsThatMayHoldSurface) {
 }
 
 // A distance field's cells stop splitting at distanceCellDepth (two
-// primitives combined one level deeper); other fields refine on.
+// primitives combined one level deeper); other fields refine on. Marched:
+// the sphere accelerator would take the bare sphere as one cell.
 TEST(ImplicitSurface, DistanceCellsStopAtTheirDepth) {
     const FieldProgram sphere = compileField(R"({"type": "sphere", "radius": 1})");
     const FieldProgram difference = compileField(R"({"type": "difference", "of": [
@@ -36,6 +39,7 @@ TEST(ImplicitSurface, DistanceCellsStopAtTheirDepth) {
     for (int depth : {1, 2, 3}) {
         ImplicitSurfaceOptions options;
         options.distanceCellDepth = depth;
+        options.cellAccelerators.clear();
         // At most the 8^depth cells of that level, and more at each level
         // (the sphere's surface crosses 8, 56, ... of them).
         const size_t one = ImplicitSurface(sphere, options).cells().size();
@@ -102,6 +106,21 @@ TEST(ImplicitSurface, LooseDomainIsTightenedToTheProvenSurfaceBox) {
     ASSERT_EQ(solved.cells().size(), 1u);
     EXPECT_LT(solved.cells()[0].box.upper.maxCoeff(), reach + 0.4);
     EXPECT_GT(solved.cells()[0].box.lower.minCoeff(), -reach - 0.4);
+}
+
+// A bare shape whose root along a ray is found exactly (sphere, ring torus,
+// polynomial) is one cell: its root costs the same in any box, and every
+// further cell would cost a ray a call. A CSG tree keeps its octree cells,
+// each with the tree pruned to what it holds.
+TEST(ImplicitSurface, BareShapesWithExactRootsAreOneCell) {
+    for (const char* bare : {R"({"type": "sphere", "radius": 1})", R"({"type": "torus", "major": 1, "minor": 0.3})",
+                             R"({"type": "polynomial", "preset": "heart"})"})
+        EXPECT_EQ(ImplicitSurface(compileField(bare)).cells().size(), 1u) << bare;
+    const ImplicitSurface spindle(compileField(R"({"type": "torus", "major": 0.5, "minor": 0.6})"));
+    EXPECT_GT(spindle.cells().size(), 1u);  // sphere traced: its quartic has an inner sheet
+    const ImplicitSurface difference(compileField(R"({"type": "difference", "of": [
+        {"type": "sphere", "radius": 1}, {"type": "sphere", "radius": 0.6, "center": [0.8, 0, 0]}]})"));
+    EXPECT_GT(difference.cells().size(), 1u);
 }
 
 TEST(ImplicitSurface, TightDomainIsKept) {
