@@ -38,6 +38,11 @@ private:
 
 }  // namespace
 
+bool BoxCellAccelerator::marchesWholeField(const FieldProgram& field, const Box3& box) const {
+    const ShapeCell<BoxField> cell(field, box);
+    return cell.shape && cell.shape->rounding == 0.0;
+}
+
 std::optional<CellAcceleration> BoxCellAccelerator::accelerate(const FieldProgram& program, const Box3& box,
                                                                double) const {
     const ShapeCell<BoxField> cell(program, box);

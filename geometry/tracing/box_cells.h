@@ -15,6 +15,9 @@ class BoxCellAccelerator final : public CellAccelerator {
 public:
     std::optional<CellAcceleration> accelerate(const FieldProgram& cellProgram, const Box3& cellBox,
                                                double surfaceDiagonal) const override;
+    /// A bare sharp box is (one slab test in any box); a rounded one is
+    /// not: its cells keep one piece each, the whole box 23.
+    bool marchesWholeField(const FieldProgram& field, const Box3& box) const override;
 };
 
 }  // namespace isotrace::geometry

@@ -109,15 +109,19 @@ TEST(ImplicitSurface, LooseDomainIsTightenedToTheProvenSurfaceBox) {
 }
 
 // A bare shape whose root along a ray is found exactly (sphere, ring torus,
-// polynomial) is one cell: its root costs the same in any box, and every
-// further cell would cost a ray a call. A CSG tree keeps its octree cells,
-// each with the tree pruned to what it holds.
+// sharp box, polynomial) is one cell: its root costs the same in any box,
+// and every further cell would cost a ray a call. A CSG tree keeps its
+// octree cells, each with the tree pruned to what it holds.
 TEST(ImplicitSurface, BareShapesWithExactRootsAreOneCell) {
     for (const char* bare : {R"({"type": "sphere", "radius": 1})", R"({"type": "torus", "major": 1, "minor": 0.3})",
-                             R"({"type": "polynomial", "preset": "heart"})"})
+                             R"({"type": "box", "size": [1, 2, 3]})", R"({"type": "polynomial", "preset": "heart"})"})
         EXPECT_EQ(ImplicitSurface(compileField(bare)).cells().size(), 1u) << bare;
     const ImplicitSurface spindle(compileField(R"({"type": "torus", "major": 0.5, "minor": 0.6})"));
     EXPECT_GT(spindle.cells().size(), 1u);  // sphere traced: its quartic has an inner sheet
+    // A rounded box's cells keep only the pieces (slabs, edge cylinders,
+    // corner balls) that reach them.
+    const ImplicitSurface rounded(compileField(R"({"type": "box", "size": [1, 2, 3], "rounding": 0.2})"));
+    EXPECT_GT(rounded.cells().size(), 1u);
     const ImplicitSurface difference(compileField(R"({"type": "difference", "of": [
         {"type": "sphere", "radius": 1}, {"type": "sphere", "radius": 0.6, "center": [0.8, 0, 0]}]})"));
     EXPECT_GT(difference.cells().size(), 1u);
