@@ -3,6 +3,9 @@
 // excludes zero are dropped), each cell with its own Lipschitz bound and its
 // own pruned copy of the field. Embree's BVH over the cells skips empty
 // space; each march uses the tightest bound and the shortest program there.
+// A field an accelerator solves exactly in any box (a bare sphere, ring
+// torus, sharp box or polynomial: CellAccelerator::marchesWholeField) is one
+// cell, the box the octree proves it lies in.
 #pragma once
 
 #include <cstdint>
