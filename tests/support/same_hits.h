@@ -74,8 +74,9 @@ inline void expectSameHitsAsMarching(const geometry::FieldProgram& program, int 
         // the hit, where the surface has one: at a singular point (Taubin's
         // heart is singular along its equator, where its cube has a triple
         // root: |grad f| ~ 1e-9 there) the gradient's direction is rounding.
-        if (b.normal.norm() > 1e-6 * exact.globalLipschitz())
+        if (b.normal.norm() > 1e-6 * exact.globalLipschitz()) {
             EXPECT_GT(a.normal.normalized().dot(b.normal.normalized()), minimumNormalCosine) << "ray " << i;
+        }
         // A ray leaving the surface into the outer hemisphere.
         const Vec3 p = ray.origin + double(a.t) * ray.direction, normal = b.normal.normalized();
         Vec3 d = Vec3(n(rng), n(rng), n(rng)).normalized();
