@@ -19,8 +19,8 @@ struct SplitPolynomial {
     double constant = 0.0;
     std::array<Monomials<Degree>, 3> univariate{};  ///< coefficient of x_a^k at [a][k], k >= 1
     std::array<int, 3> univariateDegree{0, 0, 0};
-    /// Terms mixing variables, sorted by their powers of x and y: each run
-    /// of one (x, y) pair is summed in z first (see alongLine).
+    /// Terms mixing variables, sorted by their powers (x's, then y's, then
+    /// z's): alongLine sums them by nested Horner steps.
     std::vector<PolynomialTerm> mixed;
     int mixedMaxZPower = 0;
 
@@ -76,16 +76,6 @@ struct SplitPolynomial {
         // linear x(s) once per power, so a term costs O(degree), not the two
         // products of polynomials it cost alone (the decocube has 65 such
         // terms: 80% of its frame was spent here).
-        const size_t n = mixed.size();
-        auto zPart = [&](size_t from, size_t to, Monomials<Degree>& out) {
-            int degree = 0;
-            for (size_t t = from; t < to; ++t) {
-                const int c = mixed[t].powers[2];
-                for (int k = 0; k <= c; ++k) out[k] += mixed[t].coefficient * zPowers[c][k];
-                degree = std::max(degree, c);
-            }
-            return degree;
-        };
         // p *= (x0 + s D) along `axis`; degree tracked, so the top term is new.
         auto timesLinear = [&](Monomials<Degree>& p, int& degree, int axis) {
             if (degree < 0) return;
@@ -94,39 +84,36 @@ struct SplitPolynomial {
             p[0] *= x0[axis];
             ++degree;
         };
-        auto add = [](Monomials<Degree>& p, int& degree, const Monomials<Degree>& q, int qDegree) {
-            for (int k = 0; k <= qDegree; ++k) p[k] += q[k];
-            degree = std::max(degree, qDegree);
-        };
-        // Terms [from, to) share x's power; they are sorted by y's.
-        auto yPart = [&](size_t from, size_t to, Monomials<Degree>& q) {
+        // Terms [from, to), which share their powers of the axes before
+        // `axis` and are sorted by this one's, along the line, into `out`
+        // (zero on entry); returns the degree reached (-1: none).
+        auto part = [&](auto&& self, int axis, size_t from, size_t to, Monomials<Degree>& out) -> int {
             int degree = -1;
+            if (axis == 2) {
+                for (size_t t = from; t < to; ++t) {
+                    const int c = mixed[t].powers[2];
+                    for (int k = 0; k <= c; ++k) out[k] += mixed[t].coefficient * zPowers[c][k];
+                    degree = std::max(degree, c);
+                }
+                return degree;
+            }
             size_t end = to;
-            for (int b = mixed[to - 1].powers[1]; b >= 0; --b) {
-                timesLinear(q, degree, 1);
+            for (int power = mixed[to - 1].powers[axis]; power >= 0; --power) {
+                timesLinear(out, degree, axis);
                 size_t begin = end;
-                while (begin > from && mixed[begin - 1].powers[1] == b) --begin;
+                while (begin > from && mixed[begin - 1].powers[axis] == power) --begin;
                 if (begin < end) {
-                    Monomials<Degree> z{};
-                    add(q, degree, z, zPart(begin, end, z));
+                    Monomials<Degree> inner{};
+                    const int innerDegree = self(self, axis + 1, begin, end, inner);
+                    for (int k = 0; k <= innerDegree; ++k) out[k] += inner[k];
+                    degree = std::max(degree, innerDegree);
                 }
                 end = begin;
             }
             return degree;
         };
         Monomials<Degree> mixedSum{};
-        int degree = -1;
-        size_t end = n;
-        for (int a = mixed[n - 1].powers[0]; a >= 0; --a) {
-            timesLinear(mixedSum, degree, 0);
-            size_t begin = end;
-            while (begin > 0 && mixed[begin - 1].powers[0] == a) --begin;
-            if (begin < end) {
-                Monomials<Degree> q{};
-                add(mixedSum, degree, q, yPart(begin, end, q));
-            }
-            end = begin;
-        }
+        const int degree = part(part, 0, 0, mixed.size(), mixedSum);
         for (int k = 0; k <= degree; ++k) sum[k] += mixedSum[k];
         return sum;
     }
