@@ -38,9 +38,9 @@ private:
 
 }  // namespace
 
-bool BoxCellAccelerator::marchesWholeField(const FieldProgram& field, const Box3& box) const {
-    const ShapeCell<BoxField> cell(field, box);
-    return cell.shape && cell.shape->rounding == 0.0;
+bool BoxCellAccelerator::marchesWholeField(const FieldProgram& field, const Box3&) const {
+    const BoxField* box = bareShape<BoxField>(field);
+    return box && box->rounding == 0.0;
 }
 
 std::optional<CellAcceleration> BoxCellAccelerator::accelerate(const FieldProgram& program, const Box3& box,

@@ -105,6 +105,15 @@ void recordHit(CellTraceResult& r, double t, const Shape& shape, const Vec3& lea
 /// A cell whose program is one leaf of kind `Shape` or its complement (as
 /// a difference leaves its carving operand): the shape, and the cell shrunk
 /// to its surface in the leaf's frame. `shape` is null for other programs.
+/// The program's one leaf if it is of kind `Shape` (alone or its
+/// complement), or null.
+template <typename Shape>
+const Shape* bareShape(const FieldProgram& program) {
+    bool negated = false;
+    const FieldLeaf* leaf = program.leafUpToSign(negated);
+    return leaf ? std::get_if<Shape>(&leaf->shape) : nullptr;
+}
+
 template <typename Shape>
 struct ShapeCell {
     const Shape* shape = nullptr;

@@ -210,10 +210,9 @@ std::unique_ptr<const CellTracer> PolynomialCellAccelerator::tracerFor(const Pol
         std::static_pointer_cast<const PolynomialSurface<Degree>>(*shared), negated, part);
 }
 
-bool PolynomialCellAccelerator::marchesWholeField(const FieldProgram& field, const Box3& box) const {
-    const ShapeCell<PolynomialField> cell(field, box);
-    if (!cell.shape) return false;
-    const int degree = cell.shape->polynomial().degree();
+bool PolynomialCellAccelerator::marchesWholeField(const FieldProgram& field, const Box3&) const {
+    const PolynomialField* polynomial = bareShape<PolynomialField>(field);
+    const int degree = polynomial ? polynomial->polynomial().degree() : 0;
     return degree >= 1 && degree <= kMaxDegree;
 }
 

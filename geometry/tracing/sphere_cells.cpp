@@ -30,9 +30,8 @@ public:
 
 }  // namespace
 
-bool SphereCellAccelerator::marchesWholeField(const FieldProgram& field, const Box3& box) const {
-    const ShapeCell<SphereField> cell(field, box);
-    return cell.shape;
+bool SphereCellAccelerator::marchesWholeField(const FieldProgram& field, const Box3&) const {
+    return bareShape<SphereField>(field) != nullptr;
 }
 
 std::optional<CellAcceleration> SphereCellAccelerator::accelerate(const FieldProgram& program, const Box3& box,

@@ -30,9 +30,9 @@ public:
 
 }  // namespace
 
-bool TorusCellAccelerator::marchesWholeField(const FieldProgram& field, const Box3& box) const {
-    const ShapeCell<TorusField> cell(field, box);
-    return cell.shape && cell.shape->minor < cell.shape->major;
+bool TorusCellAccelerator::marchesWholeField(const FieldProgram& field, const Box3&) const {
+    const TorusField* torus = bareShape<TorusField>(field);
+    return torus && torus->minor < torus->major;
 }
 
 std::optional<CellAcceleration> TorusCellAccelerator::accelerate(const FieldProgram& program, const Box3& box,
