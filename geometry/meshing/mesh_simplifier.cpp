@@ -10,6 +10,7 @@
 
 #include "geometry/meshing/cost_buckets.h"
 #include "geometry/meshing/mesh_analysis.h"
+#include "geometry/meshing/vertex_fans.h"
 
 namespace isotrace::geometry {
 
@@ -87,9 +88,8 @@ constexpr int kMaxBlocksPerAxis = 4;
 class Simplifier {
 public:
     Simplifier(IndexedMesh& mesh, const FieldProgram& field, const SimplifyOptions& options)
-        : mesh_(mesh), field_(field), options_(options) {
+        : mesh_(mesh), field_(field), options_(options), facesOf_(mesh.vertices.size()) {
         const size_t n = mesh.vertices.size();
-        facesOf_.resize(n);
         quadric_.reset(new Quadric[n]);  // written by buildAdjacency
         stamp_.assign(n, 0);
         removedVertex_.assign(n, 0);
@@ -150,12 +150,7 @@ public:
         }
         total += drain(whole);
         total += removeSlivers(whole);
-        arena.execute([&] {
-            compact();
-            // Hundreds of thousands of small lists: freed in parallel here
-            // rather than one by one by the destructor.
-            tbb::parallel_for(size_t(0), facesOf_.size(), [&](size_t v) { std::vector<uint32_t>().swap(facesOf_[v]); });
-        });
+        arena.execute([&] { compact(); });
         return total;
     }
 
@@ -174,7 +169,7 @@ private:
         aspect_.resize(mesh_.triangles.size());
         tbb::parallel_for(size_t(0), mesh_.triangles.size(), [&](size_t f) { aspect_[f] = computeAspectRatio(uint32_t(f)); });
         tbb::parallel_for(size_t(0), n, [&](size_t v) {
-            facesOf_[v].assign(faces.begin() + start[v], faces.begin() + start[v + 1]);
+            facesOf_.assign(uint32_t(v), std::span(faces.data() + start[v], faces.data() + start[v + 1]));
             Quadric q{};
             for (uint32_t f : facesOf_[v]) q += faceQuadric(f);
             quadric_[v] = q;
@@ -191,7 +186,7 @@ private:
     BlockGrid blockGrid() const {
         Vec3 lo = Vec3::Constant(INFINITY), hi = Vec3::Constant(-INFINITY);
         for (uint32_t v = 0; v < mesh_.vertices.size(); ++v)
-            if (!facesOf_[v].empty()) lo = lo.cwiseMin(mesh_.vertices[v]), hi = hi.cwiseMax(mesh_.vertices[v]);
+            if (!facesOf_.empty(v)) lo = lo.cwiseMin(mesh_.vertices[v]), hi = hi.cwiseMax(mesh_.vertices[v]);
         const int perAxis = std::clamp(int(std::lround(std::cbrt(double(mesh_.vertices.size()) / kVerticesPerBlock))), 1,
                                        kMaxBlocksPerAxis);
         return {lo, (double(perAxis) / (hi - lo).array().max(1e-300)).matrix(), perAxis};
@@ -210,7 +205,7 @@ private:
             block_[v] = uint32_t((cell[0] * cells + cell[1]) * cells + cell[2]);
         });
         for (uint32_t v = 0; v < mesh_.vertices.size(); ++v)
-            if (seed[v] && !removedVertex_[v] && !facesOf_[v].empty()) seedsOf[block_[v]].push_back(v);
+            if (seed[v] && !removedVertex_[v] && !facesOf_.empty(v)) seedsOf[block_[v]].push_back(v);
         // A vertex whose faces lie in its block stays so through the round:
         // its block's collapses only merge neighbourhoods inside the block,
         // and no other block touches it.
@@ -317,14 +312,10 @@ private:
         mesh_.triangles[f2] = {d, b, c};
         aspect_[f1] = computeAspectRatio(f1);
         aspect_[f2] = computeAspectRatio(f2);
-        auto drop = [&](uint32_t v, uint32_t f) {
-            auto& list = facesOf_[v];
-            list.erase(std::remove(list.begin(), list.end(), f), list.end());
-        };
-        drop(a, f2);
-        drop(b, f1);
-        facesOf_[c].push_back(f2);
-        facesOf_[d].push_back(f1);
+        facesOf_.eraseIf(a, [f2](uint32_t f) { return f == f2; });
+        facesOf_.eraseIf(b, [f1](uint32_t f) { return f == f1; });
+        facesOf_.pushBack(c, f2);
+        facesOf_.pushBack(d, f1);
         ++stamp_[a], ++stamp_[b], ++stamp_[c], ++stamp_[d];
         return true;
     }
@@ -519,12 +510,11 @@ private:
             if (!removedFace_[f]) continue;
             for (uint32_t w : mesh_.triangles[f]) {
                 if (w == u || w == v) continue;
-                auto& list = facesOf_[w];
-                list.erase(std::remove_if(list.begin(), list.end(), [&](uint32_t g) { return removedFace_[g]; }), list.end());
+                facesOf_.eraseIf(w, [&](uint32_t g) { return removedFace_[g] != 0; });
             }
         }
-        facesOf_[u].assign(kept.begin(), kept.end());
-        facesOf_[v].clear();
+        facesOf_.assign(u, kept);
+        facesOf_.clear(v);
         for (uint32_t f : facesOf_[u]) aspect_[f] = computeAspectRatio(f);
         // Only edges at u changed cost (its quadric and position); other
         // candidates stay queued and are re-validated when popped.
@@ -579,7 +569,7 @@ private:
     IndexedMesh& mesh_;
     const FieldProgram& field_;
     SimplifyOptions options_;
-    std::vector<std::vector<uint32_t>> facesOf_;
+    VertexFans facesOf_;
     std::unique_ptr<Quadric[]> quadric_;
     std::vector<uint32_t> stamp_;
     // Bytes, not std::vector<bool>: blocks write their own vertices' flags
