@@ -266,14 +266,18 @@ private:
                     if (lengths[k] < lengths[shortest]) shortest = k;
                     if (lengths[k] > lengths[longest]) longest = k;
                 }
-                const uint32_t u = t[shortest], v = t[(shortest + 1) % 3];
-                Vec3 position;
-                if (placement(u, v, position) && collapseIsValid(worker, u, v, position)) {
+                // A needle loses its shortest edge, a cap has its longest
+                // flipped; failing both, the remaining edge is collapsed.
+                auto collapseEdge = [&](int k) {
+                    const uint32_t u = t[k], v = t[(k + 1) % 3];
+                    Vec3 position;
+                    if (!placement(u, v, position) || !collapseIsValid(worker, u, v, position)) return false;
                     collapse(worker, u, v, position);
+                    return true;
+                };
+                if (collapseEdge(shortest) || flip(t[longest], t[(longest + 1) % 3]) ||
+                    (shortest != longest && collapseEdge(3 - shortest - longest)))
                     ++changed;
-                } else if (flip(t[longest], t[(longest + 1) % 3])) {
-                    ++changed;
-                }
             }
             changes += changed;
             if (changed == 0) break;
@@ -525,10 +529,23 @@ private:
                 if (w != u && mark_[w] != pushed) mark_[w] = pushed, push(worker, u, w);
     }
 
+    // The queue's key: the quadric error where the collapse would place the
+    // vertex. Where the quadric has a minimum near the edge no other point
+    // has a lower error, so the ends need no comparison here (placement
+    // still compares them, guarding against inexact minima).
     bool candidate(uint32_t a, uint32_t b, Candidate& c) const {
-        Vec3 p;
-        if (!placement(a, b, p, false)) return false;
-        c = {float(std::max(0.0, (quadric_[a] + quadric_[b]).error(p))), a, b, stamp_[a] + stamp_[b]};
+        const Quadric q = quadric_[a] + quadric_[b];
+        const Vec3 &pa = mesh_.vertices[a], &pb = mesh_.vertices[b];
+        const Vec3 middle = 0.5 * (pa + pb);
+        Vec3 x;
+        double cost;
+        if (q.minimum(x) && (x - middle).squaredNorm() < 4.0 * (pa - pb).squaredNorm()) {
+            cost = q.error(x);
+        } else {
+            cost = std::min({q.error(middle), q.error(pa), q.error(pb)});
+        }
+        if (!std::isfinite(cost)) return false;
+        c = {float(std::max(0.0, cost)), a, b, stamp_[a] + stamp_[b]};
         return true;
     }
 
