@@ -14,7 +14,10 @@ using namespace isotrace;
 // CDF (it measures 2e-8): a bias no render can show, where a million samples
 // of one pixel resolve the CDF to 1e-3. A dense sweep finds the worst u.
 TEST(PixelFilter, GaussianOffsetsInvertTheTruncatedCdf) {
-    for (const auto& [sigma, radius] : {std::pair{0.5, 1.5}, std::pair{0.3, 2.0}, std::pair{2.0, 1.0}}) {
+    for (const auto& setting : {std::pair{0.5, 1.5}, std::pair{0.3, 2.0}, std::pair{2.0, 1.0}}) {
+        // Plain variables, not a structured binding: clang 14 refuses to
+        // capture those in the lambda below.
+        const double sigma = setting.first, radius = setting.second;
         PixelFilter filter{FilterType::Gaussian, radius, sigma};
         const double scale = sigma * std::sqrt(2.0), total = std::erf(radius / scale);
         auto cdfError = [&](double u) {
