@@ -24,9 +24,17 @@ template <class Mask, class T>
     if constexpr (std::is_same_v<Mask, bool>) {
         return chosen ? a : b;
     } else {
+#if defined(__clang__)
+        // Clang 14 with libstdc++ 12 compiles the masked assignment below to
+        // a no-op for AVX-512's bit masks (the MPU lane sums came out wrong
+        // in the sanitizer build): lane by lane there. GCC's blend of the
+        // masked assignment is 3% faster on an MPU render than this.
+        return T([&](auto j) { return chosen[j] ? a[j] : b[j]; });
+#else
         T r = b;
         where(chosen, r) = a;
         return r;
+#endif
     }
 }
 

@@ -37,7 +37,10 @@ TEST(PolynomialCells, SexticAgreesWithMarching) {
 // 6, with x^2 y^3) and the two-holed pretzel (degree 8, with x^2 y^2).
 TEST(PolynomialCells, HeartAgreesWithMarching) {
     const FieldProgram program = compileField(R"({"type": "polynomial", "preset": "heart"})");
-    isotrace::testing::expectSameHitsAsMarching(program, 1500, 300, 5);  // nearly convex: few rays return
+    // Nearly convex: few rays return, hence more rays than the others take
+    // (of 4,000, 14 secondary hits with GCC and 7 with clang, whose rounding
+    // draws other random rays).
+    isotrace::testing::expectSameHitsAsMarching(program, 4000, 800, 6);
 }
 
 TEST(PolynomialCells, PretzelOfDegreeEightAgreesWithMarching) {
