@@ -27,7 +27,7 @@ constexpr int kIslandCellDepth = 3;
 // Neighbour queries over points: cells of side h, points sorted by cell.
 class PointGrid {
 public:
-    PointGrid(const std::vector<Vec3>& points, double cellSize) : points_(points), inverse_(1.0 / cellSize) {
+    PointGrid(const std::vector<Vec3>& points, double cellSize) : inverse_(1.0 / cellSize) {
         order_.resize(points.size());
         std::iota(order_.begin(), order_.end(), 0u);
         keys_.resize(points.size());
@@ -65,7 +65,6 @@ private:
         return part(c.x()) | (part(c.y()) << 21) | (part(c.z()) << 42);
     }
 
-    const std::vector<Vec3>& points_;
     double inverse_;
     std::vector<uint32_t> order_;
     std::vector<uint64_t> keys_;
