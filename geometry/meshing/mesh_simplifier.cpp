@@ -352,11 +352,10 @@ private:
     }
 
     // Quadric minimum (or the best of the ends and the midpoint), projected
-    // onto the surface by Newton steps along the gradient unless only its
-    // cost is wanted (queueing: the projection is made when the edge is
-    // popped, and costs field evaluations for every edge around every
-    // collapse).
-    bool placement(uint32_t u, uint32_t v, Vec3& out, bool project = true) const {
+    // onto the surface by Newton steps along the gradient. Made when an edge
+    // is popped: queueing (candidate) asks only the quadric, since every
+    // collapse queues all the edges around its vertex.
+    bool placement(uint32_t u, uint32_t v, Vec3& out) const {
         const Quadric q = quadric_[u] + quadric_[v];
         const Vec3 &pu = mesh_.vertices[u], &pv = mesh_.vertices[v];
         Vec3 best = 0.5 * (pu + pv), x;
@@ -371,7 +370,7 @@ private:
         // to well within the tolerance (the quadric minimum of a flat
         // neighbourhood already is); the last evaluation gives the distance.
         double distance = 0.0;
-        for (int i = 0; project; ++i) {
+        for (int i = 0;; ++i) {
             Vec3 g;
             const double f = field_.valueAndGradient(best, g);
             const double g2 = g.squaredNorm();
