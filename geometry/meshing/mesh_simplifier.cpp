@@ -351,6 +351,12 @@ private:
         return n > 0 ? std::abs(f) / n : std::abs(f);
     }
 
+    // The quadric's minimum, where it has one near the edge pa-pb: a far
+    // minimum means an ill-conditioned quadric.
+    static bool minimumNearEdge(const Quadric& q, const Vec3& pa, const Vec3& pb, Vec3& x) {
+        return q.minimum(x) && (x - 0.5 * (pa + pb)).squaredNorm() < 4.0 * (pa - pb).squaredNorm();
+    }
+
     // Quadric minimum (or the best of the ends and the midpoint), projected
     // onto the surface by Newton steps along the gradient. Made when an edge
     // is popped: queueing (candidate) asks only the quadric, since every
@@ -359,8 +365,7 @@ private:
         const Quadric q = quadric_[u] + quadric_[v];
         const Vec3 &pu = mesh_.vertices[u], &pv = mesh_.vertices[v];
         Vec3 best = 0.5 * (pu + pv), x;
-        // Stay near the edge: a far minimum means an ill-conditioned quadric.
-        if (q.minimum(x) && (x - best).squaredNorm() < 4.0 * (pu - pv).squaredNorm()) best = x;
+        if (minimumNearEdge(q, pu, pv, x)) best = x;
         double bestError = q.error(best);
         for (const Vec3& p : {pu, pv}) {
             const double e = q.error(p);
@@ -535,14 +540,9 @@ private:
     bool candidate(uint32_t a, uint32_t b, Candidate& c) const {
         const Quadric q = quadric_[a] + quadric_[b];
         const Vec3 &pa = mesh_.vertices[a], &pb = mesh_.vertices[b];
-        const Vec3 middle = 0.5 * (pa + pb);
         Vec3 x;
-        double cost;
-        if (q.minimum(x) && (x - middle).squaredNorm() < 4.0 * (pa - pb).squaredNorm()) {
-            cost = q.error(x);
-        } else {
-            cost = std::min({q.error(middle), q.error(pa), q.error(pb)});
-        }
+        const double cost = minimumNearEdge(q, pa, pb, x) ? q.error(x)
+                                                          : std::min({q.error(0.5 * (pa + pb)), q.error(pa), q.error(pb)});
         if (!std::isfinite(cost)) return false;
         c = {float(std::max(0.0, cost)), a, b, stamp_[a] + stamp_[b]};
         return true;
