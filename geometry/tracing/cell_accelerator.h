@@ -102,9 +102,6 @@ void recordHit(CellTraceResult& r, double t, const Shape& shape, const Vec3& lea
     r.gradient = worldGradient(placement, sign * gradient);
 }
 
-/// A cell whose program is one leaf of kind `Shape` or its complement (as
-/// a difference leaves its carving operand): the shape, and the cell shrunk
-/// to its surface in the leaf's frame. `shape` is null for other programs.
 /// The program's one leaf if it is of kind `Shape` (alone or its
 /// complement), or null.
 template <typename Shape>
@@ -114,6 +111,9 @@ const Shape* bareShape(const FieldProgram& program) {
     return leaf ? std::get_if<Shape>(&leaf->shape) : nullptr;
 }
 
+/// A cell whose program is one leaf of kind `Shape` or its complement (as
+/// a difference leaves its carving operand): the shape, and the cell shrunk
+/// to its surface in the leaf's frame. `shape` is null for other programs.
 template <typename Shape>
 struct ShapeCell {
     const Shape* shape = nullptr;
