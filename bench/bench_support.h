@@ -15,6 +15,12 @@
 
 namespace isotrace::bench {
 
+/// The middle of `values` (the upper middle of an even count).
+inline double median(std::vector<double> values) {
+    std::sort(values.begin(), values.end());
+    return values[values.size() / 2];
+}
+
 /// Median wall time in seconds of `runs` calls.
 inline double medianSeconds(int runs, const std::function<void()>& work) {
     std::vector<double> times;
@@ -23,8 +29,7 @@ inline double medianSeconds(int runs, const std::function<void()>& work) {
         work();
         times.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
     }
-    std::sort(times.begin(), times.end());
-    return times[times.size() / 2];
+    return median(std::move(times));
 }
 
 /// Medians of two pieces of work run alternately: a ratio of the two then
@@ -39,9 +44,7 @@ inline std::pair<double, double> interleavedMedianSeconds(int runs, const std::f
             times->push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
         }
     }
-    std::sort(a.begin(), a.end());
-    std::sort(b.begin(), b.end());
-    return {a[a.size() / 2], b[b.size() / 2]};
+    return {median(std::move(a)), median(std::move(b))};
 }
 
 /// A file of this name in the system's temporary folder (benches' inputs made on the fly).

@@ -3,10 +3,9 @@
 // second); the triangles the adaptive mesher needs for the same maximum
 // surface distance; and render time of a field as implicit and as mesh at
 // that accuracy, measured in one run.
-#include <algorithm>
 #include <chrono>
-#include <vector>
 #include <cstdio>
+#include <vector>
 
 #include "bench_support.h"
 #include "geometry/description/field_parser.h"
@@ -61,17 +60,13 @@ int main() {
                 simplification.push_back(
                     std::chrono::duration<double>(std::chrono::steady_clock::now() - extracted).count());
             });
-        auto median = [](std::vector<double> v) {
-            std::sort(v.begin(), v.end());
-            return v[v.size() / 2];
-        };
         const MeshAccuracy mcQuality = measureAccuracy(mc, e.field), adaptiveQuality = measureAccuracy(adaptive, e.field);
         std::printf("%-16s %8.3fs %11zu %12.2f %14.2e %12zu %10.3f %7.3fs %7.2fx   (adaptive max distance %.2e)\n", e.name,
                     seconds, mc.triangles.size(), mc.triangles.size() / seconds / 1e6, target, adaptive.triangles.size(),
                     double(adaptive.triangles.size()) / double(mc.triangles.size()), adaptiveSeconds,
                     adaptiveSeconds / seconds, adaptiveQuality.maxCentroidDistance);
         std::printf("%-16s adaptive = marching cubes with feature vertices %.3fs + simplification %.3fs (%.2fx MC)\n", "",
-                    median(extraction), median(simplification), median(simplification) / seconds);
+                    bench::median(extraction), bench::median(simplification), bench::median(simplification) / seconds);
         std::printf("%-16s aspect ratio: marching cubes %.3g / %.3g, adaptive %.3g / %.3g\n", "",
                     mcQuality.worstAspectRatio, mcQuality.aspectRatio99thPercentile, adaptiveQuality.worstAspectRatio,
                     adaptiveQuality.aspectRatio99thPercentile);
