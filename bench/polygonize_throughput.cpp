@@ -1,7 +1,7 @@
 // Polygonization cost and quality: marching cubes at 256^3 on the sphere,
 // the tangle and the showcase CSG (wall time on 2 threads, triangles per
-// second); the triangles the adaptive mesher needs for the same maximum
-// surface distance; and render time of a field as implicit and as mesh at
+// second); the time and triangles the adaptive mesher (polygonize) needs for
+// the same maximum surface distance; and render time of a field as implicit and as mesh at
 // that accuracy, measured in one run.
 #include <chrono>
 #include <cstdio>
@@ -11,7 +11,7 @@
 #include "geometry/description/field_parser.h"
 #include "geometry/meshing/marching_cubes.h"
 #include "geometry/meshing/mesh_analysis.h"
-#include "geometry/meshing/mesh_simplifier.h"
+#include "geometry/meshing/polygonizer.h"
 #include "renderer/render.h"
 #include "renderer/scene_loader.h"
 
@@ -42,31 +42,35 @@ int main() {
         o.threads = 2;
         IndexedMesh mc = marchingCubes(e.field, e.field.bounds(), o);
         const double target = measureAccuracy(mc, e.field).maxCentroidDistance;
-        // Adaptive: feature vertices, then simplification to the same bound;
-        // timed alternately with marching cubes (medians of 5 each), with
-        // its two stages timed apart within the same runs.
+        // Adaptive, to the same bound: feature vertices on half the grid,
+        // refinement, then simplification; timed alternately with marching
+        // cubes (medians of 5 each), its stages timed apart within the same
+        // runs.
         IndexedMesh adaptive;
-        std::vector<double> extraction, simplification;
+        std::vector<double> extraction, refinement, simplification;
+        PolygonizeOptions a;
+        a.method = PolygonizeMethod::Adaptive;
+        a.resolution = o.resolution;
+        a.tolerance = target;
+        a.threads = o.threads;
         const auto [seconds, adaptiveSeconds] = bench::interleavedMedianSeconds(
             5, [&] { mc = marchingCubes(e.field, e.field.bounds(), o); },
             [&] {
-                MarchingCubesOptions sharp = o;
-                sharp.sharpFeatures = true;
-                const auto start = std::chrono::steady_clock::now();
-                adaptive = marchingCubes(e.field, e.field.bounds(), sharp);
-                const auto extracted = std::chrono::steady_clock::now();
-                simplifyMesh(adaptive, e.field, {.maxDistance = target, .threads = 2});
-                extraction.push_back(std::chrono::duration<double>(extracted - start).count());
-                simplification.push_back(
-                    std::chrono::duration<double>(std::chrono::steady_clock::now() - extracted).count());
+                Polygonization p = polygonize(e.field, a);
+                adaptive = std::move(p.mesh);
+                extraction.push_back(p.extractionSeconds);
+                refinement.push_back(p.refinementSeconds);
+                simplification.push_back(p.simplificationSeconds);
             });
         const MeshAccuracy mcQuality = measureAccuracy(mc, e.field), adaptiveQuality = measureAccuracy(adaptive, e.field);
         std::printf("%-16s %8.3fs %11zu %12.2f %14.2e %12zu %10.3f %7.3fs %7.2fx   (adaptive max distance %.2e)\n", e.name,
                     seconds, mc.triangles.size(), mc.triangles.size() / seconds / 1e6, target, adaptive.triangles.size(),
                     double(adaptive.triangles.size()) / double(mc.triangles.size()), adaptiveSeconds,
                     adaptiveSeconds / seconds, adaptiveQuality.maxCentroidDistance);
-        std::printf("%-16s adaptive = marching cubes with feature vertices %.3fs + simplification %.3fs (%.2fx MC)\n", "",
-                    bench::median(extraction), bench::median(simplification), bench::median(simplification) / seconds);
+        std::printf("%-16s adaptive = marching cubes with feature vertices at %d^3 %.3fs + refinement %.3fs + "
+                    "simplification %.3fs (%.2fx MC)\n",
+                    "", a.resolution / 2, bench::median(extraction), bench::median(refinement),
+                    bench::median(simplification), bench::median(simplification) / seconds);
         std::printf("%-16s aspect ratio: marching cubes %.3g / %.3g, adaptive %.3g / %.3g\n", "",
                     mcQuality.worstAspectRatio, mcQuality.aspectRatio99thPercentile, adaptiveQuality.worstAspectRatio,
                     adaptiveQuality.aspectRatio99thPercentile);

@@ -1,11 +1,13 @@
 #include "geometry/meshing/polygonizer.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <stdexcept>
 #include <unistd.h>
 
 #include "geometry/meshing/mesh_analysis.h"
+#include "geometry/meshing/mesh_refiner.h"
 #include "geometry/meshing/mesh_simplifier.h"
 
 namespace isotrace::geometry {
@@ -13,6 +15,12 @@ namespace isotrace::geometry {
 namespace {
 
 constexpr int kMaxSearchResolution = 256;
+/// The adaptive mesher extracts on the coarsest grid whose marching cubes
+/// comes within this factor of the tolerance: one halving of the cell, for
+/// a smooth surface.
+constexpr double kAdaptiveReach = 4.0;
+/// Refinement leaves edges shorter than this fraction of an extraction cell.
+constexpr double kMinEdgeFraction = 1.0 / 64.0;
 
 double physicalMemory() { return double(sysconf(_SC_PHYS_PAGES)) * double(sysconf(_SC_PAGESIZE)); }
 
@@ -57,14 +65,21 @@ Polygonization polygonize(const FieldProgram& field, const PolygonizeOptions& op
         return result;
     }
     const bool adaptive = options.method == PolygonizeMethod::Adaptive;
+    const auto stageStart = [] { return std::chrono::steady_clock::now(); };
+    const auto secondsSince = [](auto t) {
+        return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+    };
 
     int resolution = options.resolution;
     if (resolution != 0) checkResolution(resolution);
     IndexedMesh m;
-    if (resolution == 0 && options.tolerance > 0) {
-        // Double the grid until marching cubes alone meets the tolerance
-        // (half of it for the adaptive mesher, which spends the rest).
-        const double target = adaptive ? 0.5 * options.tolerance : options.tolerance;
+    double tolerance = options.tolerance;
+    const auto extraction = stageStart();
+    if (resolution == 0 && tolerance > 0) {
+        // Double the grid until marching cubes alone meets the tolerance (or,
+        // for the adaptive mesher, whose refinement takes faces the rest of
+        // the way, comes within kAdaptiveReach of it).
+        const double target = adaptive ? kAdaptiveReach * tolerance : tolerance;
         // The search stops at kMaxSearchResolution: beyond it a scene load
         // would take minutes; an explicit resolution may go higher.
         for (resolution = 16;; resolution *= 2) {
@@ -73,25 +88,50 @@ Polygonization polygonize(const FieldProgram& field, const PolygonizeOptions& op
             const double reached = measureAccuracy(m, field).maxCentroidDistance;
             if (reached <= target) break;
             if (resolution >= kMaxSearchResolution) {
-                result.warnings.push_back("tolerance " + std::to_string(options.tolerance) + " not reached at resolution " +
+                if (adaptive) break;  // refinement takes it on
+                result.warnings.push_back("tolerance " + std::to_string(tolerance) + " not reached at resolution " +
                                           std::to_string(resolution) + " (largest distance " + std::to_string(reached) +
                                           "); give a resolution to go further");
                 break;
             }
         }
+        result.extractionResolution = resolution;
     } else {
         if (resolution == 0) resolution = 128;
-        m = mesh(field, resolution, adaptive, options.threads);
+        // The adaptive mesher extracts on half the grid; without a
+        // tolerance it refines to what marching cubes reaches on the whole
+        // one, taken as a quarter of the half grid's (marching cubes' error
+        // falls with the square of the cell size on smooth surfaces; at
+        // creases, where it falls linearly, this asks for more).
+        result.extractionResolution = adaptive ? std::max(resolution / 2, 1) : resolution;
+        m = mesh(field, result.extractionResolution, adaptive, options.threads);
+        if (adaptive && tolerance == 0 && !m.triangles.empty())
+            tolerance = 0.25 * measureAccuracy(m, field).maxCentroidDistance;
     }
+    result.extractionSeconds = secondsSince(extraction);
     result.resolution = resolution;
     if (m.triangles.empty()) {
         result.warnings.push_back("the field has no surface inside its bounds: the mesh is empty");
     } else if (adaptive) {
+        const auto refinement = stageStart();
+        const double cell = bounds.extent().maxCoeff() / result.extractionResolution;
+        const RefineStatistics refined =
+            refineMesh(m, field, {.maxDistance = tolerance, .minEdgeLength = kMinEdgeFraction * cell});
+        // A tolerance of the user's own that cannot be met is worth a word;
+        // the one derived from the grid is a target only.
+        if (refined.facesBeyond > 0 && options.tolerance > 0)
+            result.warnings.push_back(std::to_string(refined.facesBeyond) + " faces stay farther than the tolerance " +
+                                      std::to_string(tolerance) +
+                                      " from the surface: the field is not smooth there, or its gradient nearly "
+                                      "vanishes (refinement stops at edges of 1/" +
+                                      std::to_string(int(1 / kMinEdgeFraction)) + " of a cell)");
+        result.refinementSeconds = secondsSince(refinement);
+        const auto simplification = stageStart();
         SimplifyOptions s;
-        // Without a tolerance, keep the accuracy marching cubes reached.
-        s.maxDistance = options.tolerance > 0 ? options.tolerance : measureAccuracy(m, field).maxCentroidDistance;
+        s.maxDistance = tolerance;
         s.threads = options.threads;
         simplifyMesh(m, field, s);
+        result.simplificationSeconds = secondsSince(simplification);
     }
     result.mesh = std::move(m);
     result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -1,7 +1,8 @@
 // Polygonization of any bounded field: the entry point that chooses between
 // uniform marching cubes and the adaptive mesher (marching cubes with
-// feature vertices, then error-bounded simplification), picks resolutions
-// for a target tolerance, and refuses requests that cannot fit in memory.
+// feature vertices on half the grid, error-driven refinement, then
+// error-bounded simplification), picks resolutions for a target tolerance,
+// and refuses requests that cannot fit in memory.
 #pragma once
 
 #include <string>
@@ -24,8 +25,12 @@ struct PolygonizeOptions {
 
 struct Polygonization {
     IndexedMesh mesh;
-    int resolution = 0;  ///< of the marching-cubes grid used
+    int resolution = 0;            ///< the grid given, or for a tolerance the one marching cubes used
+    int extractionResolution = 0;  ///< of the marching-cubes grid used (half of it for the adaptive mesher)
     double seconds = 0.0;
+    /// The stages: marching cubes (with the search for a grid), and for the
+    /// adaptive mesher refinement and simplification.
+    double extractionSeconds = 0.0, refinementSeconds = 0.0, simplificationSeconds = 0.0;
     std::vector<std::string> warnings;
 };
 

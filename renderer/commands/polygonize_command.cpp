@@ -51,6 +51,7 @@ int runPolygonize(const PolygonizeCommand& cmd) {
             {"field", cmd.field},
             {"method", cmd.method},
             {"resolution", result.resolution},
+            {"extraction_resolution", result.extractionResolution},
             {"triangles", t.triangles},
             {"vertices", t.vertices},
             {"watertight", t.watertight()},

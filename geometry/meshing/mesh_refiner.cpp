@@ -1,0 +1,404 @@
+#include "geometry/meshing/mesh_refiner.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <utility>
+#include <vector>
+
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
+
+namespace isotrace::geometry {
+
+namespace {
+
+constexpr uint32_t kNone = std::numeric_limits<uint32_t>::max();
+/// Across an edge of more than two faces: never split (it would leave the
+/// others a crack).
+constexpr uint32_t kBlocked = kNone - 1;
+/// Refinement stops when the faces have grown this many times (from half
+/// the grid to the accuracy of the whole one takes about three).
+constexpr size_t kMaxGrowth = 16;
+/// Faces where the gradient is shorter than this fraction of its median on
+/// the surface are not refined.
+constexpr double kReliableGradientFraction = 0.1;
+/// Neither half of a split edge may be longer than this fraction of it, nor
+/// the edges to the opposite vertices longer than kMaxOpposite of it.
+constexpr double kMaxHalf = 0.95, kMaxOpposite = 1.25;
+/// Twice the least area of a new face, relative to the split edge squared.
+constexpr double kLeastArea = 1e-6;
+
+inline uint64_t undirected(uint32_t a, uint32_t b) { return (uint64_t(std::min(a, b)) << 32) | std::max(a, b); }
+
+class Refiner {
+public:
+    Refiner(IndexedMesh& mesh, const FieldProgram& field, const RefineOptions& options)
+        : mesh_(mesh), field_(field), options_(options) {
+        findNeighbours();
+    }
+
+    RefineStatistics run() {
+        // The first check of every face in parallel: most pass.
+        const size_t n = mesh_.triangles.size();
+        leastReliableGradient_ = leastReliableGradient();
+        for (size_t t = 0; t < n; ++t) longestInput_ = std::max(longestInput_, longestLength2(uint32_t(t)));
+        longestInput_ = std::sqrt(longestInput_);
+        for (const Vec3& p : mesh_.vertices) inputBox_.extend(p);
+        std::vector<char> fails(n, 0);
+        tbb::parallel_for(size_t(0), n, [&](size_t t) { fails[t] = worthRefining(uint32_t(t)); });
+        for (size_t t = n; t-- > 0;)
+            if (fails[t]) pending_.push_back(uint32_t(t));
+        // Splits add their faces back to `pending_`, to be checked again.
+        maxFaces_ = kMaxGrowth * std::max<size_t>(n, 1);
+        frozen_.assign(n, 0);
+        while (!pending_.empty() && mesh_.triangles.size() < maxFaces_) {
+            const uint32_t t = pending_.back();
+            pending_.pop_back();
+            if (!frozen_[t] && worthRefining(t) && longestLength2(t) >= options_.minEdgeLength * options_.minEdgeLength)
+                refine(t);
+        }
+        RefineStatistics s = statistics_;
+        for (uint32_t t = 0; t < mesh_.triangles.size(); ++t) s.facesBeyond += beyond(t);
+        return s;
+    }
+
+private:
+    // neighbours_[t][k]: the face across edge k of t (from vertex k to k + 1),
+    // kNone on a boundary, kBlocked on a non-manifold edge.
+    void findNeighbours() {
+        const size_t n = mesh_.triangles.size();
+        neighbours_.assign(n, {kNone, kNone, kNone});
+        std::vector<std::pair<uint64_t, uint32_t>> halfEdges(3 * n);
+        tbb::parallel_for(size_t(0), n, [&](size_t t) {
+            const auto& v = mesh_.triangles[t];
+            for (int k = 0; k < 3; ++k) halfEdges[3 * t + k] = {undirected(v[k], v[(k + 1) % 3]), uint32_t(3 * t + k)};
+        });
+        tbb::parallel_sort(halfEdges.begin(), halfEdges.end());
+        for (size_t i = 0; i < halfEdges.size();) {
+            size_t j = i + 1;
+            while (j < halfEdges.size() && halfEdges[j].first == halfEdges[i].first) ++j;
+            if (j - i == 2) {
+                const uint32_t a = halfEdges[i].second, b = halfEdges[i + 1].second;
+                neighbours_[a / 3][a % 3] = b / 3;
+                neighbours_[b / 3][b % 3] = a / 3;
+            } else if (j - i > 2) {
+                for (size_t h = i; h < j; ++h) neighbours_[halfEdges[h].second / 3][halfEdges[h].second % 3] = kBlocked;
+            }
+            i = j;
+        }
+    }
+
+    double distance(const Vec3& p, double* gradientNorm = nullptr) const {
+        Vec3 g;
+        const double f = field_.valueAndGradient(p, g);
+        const double n = g.norm();
+        if (gradientNorm) *gradientNorm = n;
+        return n > 0 ? std::abs(f) / n : std::abs(f);
+    }
+
+    Vec3 centroid(uint32_t t) const {
+        const auto& v = mesh_.triangles[t];
+        return (mesh_.vertices[v[0]] + mesh_.vertices[v[1]] + mesh_.vertices[v[2]]) / 3.0;
+    }
+
+    bool beyond(uint32_t t) const { return distance(centroid(t)) > options_.maxDistance; }
+
+    // Beyond the tolerance, and where |f| / |grad f| measures distance: not
+    // where the gradient has fallen far below its typical length on the
+    // surface (near a singular point of the field, such as the saddle of a
+    // smooth union, smaller faces only come nearer the point and look
+    // farther).
+    bool worthRefining(uint32_t t) const {
+        double gradientNorm;
+        return distance(centroid(t), &gradientNorm) > options_.maxDistance && gradientNorm >= leastReliableGradient_;
+    }
+
+    // A tenth of the median gradient length at (up to 4,096 of) the vertices.
+    double leastReliableGradient() const {
+        const size_t n = mesh_.vertices.size(), stride = std::max<size_t>(1, n / 4096);
+        std::vector<double> lengths;
+        for (size_t v = 0; v < n; v += stride) {
+            Vec3 g;
+            field_.valueAndGradient(mesh_.vertices[v], g);
+            lengths.push_back(g.norm());
+        }
+        if (lengths.empty()) return 0.0;
+        std::nth_element(lengths.begin(), lengths.begin() + lengths.size() / 2, lengths.end());
+        return kReliableGradientFraction * lengths[lengths.size() / 2];
+    }
+
+    double length2(uint32_t a, uint32_t b) const { return (mesh_.vertices[a] - mesh_.vertices[b]).squaredNorm(); }
+
+    // The longest edge, ties broken by the edge's vertex numbers so that the
+    // two faces of an edge agree.
+    int longest(uint32_t t) const {
+        const auto& v = mesh_.triangles[t];
+        int best = 0;
+        double bestLength = length2(v[0], v[1]);
+        uint64_t bestKey = undirected(v[0], v[1]);
+        for (int k = 1; k < 3; ++k) {
+            const double l = length2(v[k], v[(k + 1) % 3]);
+            const uint64_t key = undirected(v[k], v[(k + 1) % 3]);
+            if (l > bestLength || (l == bestLength && key > bestKey)) {
+                best = k;
+                bestLength = l;
+                bestKey = key;
+            }
+        }
+        return best;
+    }
+
+    double longestLength2(uint32_t t) const {
+        const auto& v = mesh_.triangles[t];
+        const int k = longest(t);
+        return length2(v[k], v[(k + 1) % 3]);
+    }
+
+    // Rivara's longest-edge propagation path: split t's longest edge once it
+    // is also the longest of the face beyond it, splitting that face first
+    // when it is not (its longest edge is longer, so the path ends). Where
+    // Newton cannot bring the new vertex within the tolerance, the field is
+    // not smooth there (or its gradient nearly vanishes, and |f| / |grad f|
+    // is no distance): the edge stays whole, its faces are not refined
+    // again, and the path is given up (the splits made along it are
+    // complete in themselves).
+    void refine(uint32_t t) {
+        path_.clear();
+        path_.push_back(t);
+        while (!path_.empty() && mesh_.triangles.size() < maxFaces_) {
+            const uint32_t s = path_.back();
+            if (frozen_[s]) return;
+            const int k = longest(s);
+            const uint32_t u = neighbours_[s][k];
+            if (u == kBlocked) return;  // t stays as it is
+            if (u == kNone || neighbours_[u][longest(u)] == s) {
+                Vec3 p;
+                if (!splitPoint(s, k, u, p)) {
+                    frozen_[s] = 1;
+                    if (u != kNone) frozen_[u] = 1;
+                    ++statistics_.refusedSplits;
+                    return;
+                }
+                split(s, k, p);
+                path_.pop_back();
+            } else {
+                path_.push_back(u);
+            }
+        }
+    }
+
+    // Where to split edge k of t (u the face beyond it): the point of the
+    // surface nearest the midpoint, by Newton steps along the gradient; or,
+    // where that point would not do (near a crease the gradient jumps and
+    // Newton may slide sideways), the surface's crossing of the line through
+    // the midpoint along the faces' normal; or the midpoint itself, if
+    // within the tolerance. False when none does.
+    bool splitPoint(uint32_t t, int k, uint32_t u, Vec3& p) const {
+        const auto& v = mesh_.triangles[t];
+        const Vec3 &a = mesh_.vertices[v[k]], &b = mesh_.vertices[v[(k + 1) % 3]];
+        const double length = (a - b).norm();
+        const Vec3 midpoint = 0.5 * (a + b);
+        if (nearestByNewton(midpoint, length, p) && acceptable(t, k, u, keptInBox(p, u))) return true;
+        Vec3 normal = faceNormal(t);
+        if (u != kNone) normal += faceNormal(u);
+        if (normal.norm() > 0 && crossingAlong(midpoint, normal.normalized(), length, p) &&
+            acceptable(t, k, u, keptInBox(p, u)))
+            return true;
+        p = midpoint;
+        return acceptable(t, k, u, p);
+    }
+
+    // An open surface ends where marching cubes' grid does, on the input's
+    // bounding box: a point splitting an edge of the opening (no face u
+    // beyond it) is kept on that box.
+    const Vec3& keptInBox(Vec3& p, uint32_t u) const {
+        if (u == kNone) p = p.cwiseMax(inputBox_.lower).cwiseMin(inputBox_.upper);
+        return p;
+    }
+
+    Vec3 faceNormal(uint32_t t) const {
+        const auto& v = mesh_.triangles[t];
+        const Vec3 n = (mesh_.vertices[v[1]] - mesh_.vertices[v[0]]).cross(mesh_.vertices[v[2]] - mesh_.vertices[v[0]]);
+        const double l = n.norm();
+        return l > 0 ? Vec3(n / l) : Vec3::Zero();
+    }
+
+    // Newton steps along the gradient from `start`, each at most half the
+    // edge's length; the best point, if within the tolerance.
+    bool nearestByNewton(const Vec3& start, double length, Vec3& best) const {
+        Vec3 p = start;
+        double bestDistance = std::numeric_limits<double>::infinity();
+        for (int i = 0; i < 8; ++i) {
+            Vec3 g;
+            const double f = field_.valueAndGradient(p, g);
+            const double g2 = g.squaredNorm();
+            if (!(g2 > 0) || !std::isfinite(f)) break;
+            const double d = std::abs(f) / std::sqrt(g2);
+            if (d < bestDistance) {
+                bestDistance = d;
+                best = p;
+            }
+            if (d <= 1e-3 * options_.maxDistance) break;
+            Vec3 step = (f / g2) * g;
+            const double stepLength = step.norm();
+            if (stepLength > 0.5 * length) step *= 0.5 * length / stepLength;
+            p -= step;
+        }
+        return bestDistance <= options_.maxDistance;
+    }
+
+    // The zero of f on the segment start +- reach/2 along `direction`
+    // nearest `start` (looked for at an eighth, a quarter and a half of
+    // the reach each way), by bisection; false when f keeps its sign.
+    bool crossingAlong(const Vec3& start, const Vec3& direction, double length, Vec3& out) const {
+        const double f0 = field_.value(start);
+        if (f0 == 0) {
+            out = start;
+            return true;
+        }
+        for (double reach : {0.125 * length, 0.25 * length, 0.5 * length})
+            for (double side : {1.0, -1.0}) {
+                double inside = 0, outside = side * reach;
+                if ((field_.value(start + outside * direction) > 0) == (f0 > 0)) continue;
+                for (int i = 0; i < 60 && std::abs(outside - inside) > 1e-3 * options_.maxDistance; ++i) {
+                    const double mid = 0.5 * (inside + outside);
+                    ((field_.value(start + mid * direction) > 0) == (f0 > 0) ? inside : outside) = mid;
+                }
+                out = start + outside * direction;
+                return true;
+            }
+        return false;
+    }
+
+    // A split point must lie within the tolerance; neither half of the
+    // split edge may be longer than kMaxHalf of it, nor the edges to the
+    // opposite vertices longer than kMaxOpposite of it or than the input's
+    // longest edge (on a plane the halves are half of it and those edges at
+    // most 0.87 of it; at a crease the point moves off the chord); and no
+    // new face may fold over or be degenerate. So each split edge shrinks,
+    // no edge grows past the input's, and no face collapses.
+    bool acceptable(uint32_t t, int k, uint32_t u, const Vec3& p) const {
+        const auto& v = mesh_.triangles[t];
+        const Vec3 &a = mesh_.vertices[v[k]], &b = mesh_.vertices[v[(k + 1) % 3]],
+                   &c = mesh_.vertices[v[(k + 2) % 3]];
+        const double length = (a - b).norm();
+        Vec3 outward;
+        const double f = field_.valueAndGradient(p, outward);
+        const double g = outward.norm();
+        if (!((g > 0 ? std::abs(f) / g : std::abs(f)) <= options_.maxDistance)) return false;
+        if ((p - a).norm() > kMaxHalf * length || (p - b).norm() > kMaxHalf * length) return false;
+        const double reach = std::min(kMaxOpposite * length, longestInput_);
+        // Each new face not degenerate, and facing the way its parent does,
+        // or the way the surface does at the new vertex or at the face's
+        // centre (outward, as marching cubes orients them; at a crease or
+        // on large faces these differ). Where the two faces of the edge
+        // already fold onto each other (a fin marching cubes' feature
+        // vertices can leave at a crease), only degenerate halves are
+        // refused.
+        const bool fin = u != kNone && faceNormal(t).dot(faceNormal(u)) < 0;
+        auto halvesKept = [&](const Vec3& x, const Vec3& y, const Vec3& z) {
+            if ((p - z).norm() > reach) return false;
+            const Vec3 parent = (y - x).cross(z - x);
+            for (const auto& [half, centre] : {std::pair{Vec3((p - x).cross(z - x)), Vec3((p + x + z) / 3.0)},
+                                               std::pair{Vec3((y - p).cross(z - p)), Vec3((y + p + z) / 3.0)}}) {
+                if (!(half.norm() > kLeastArea * length * length)) return false;
+                if (fin || half.dot(parent) > 0 || half.dot(outward) > 0) continue;
+                Vec3 there;
+                field_.valueAndGradient(centre, there);
+                if (!(half.dot(there) > 0)) return false;
+            }
+            return true;
+        };
+        if (!halvesKept(a, b, c)) return false;
+        if (u == kNone) return true;
+        const auto& w = mesh_.triangles[u];
+        int j = 0;
+        while (w[j] != v[(k + 1) % 3]) ++j;
+        return halvesKept(b, a, mesh_.vertices[w[(j + 2) % 3]]);
+    }
+
+    uint32_t addVertex(const Vec3& p) {
+        const uint32_t m = uint32_t(mesh_.vertices.size());
+        mesh_.vertices.push_back(p);
+        if (!mesh_.normals.empty()) {
+            Vec3 g;
+            field_.valueAndGradient(p, g);
+            mesh_.normals.push_back(g.norm() > 0 ? Vec3(g.normalized()) : Vec3(0, 1, 0));
+        }
+        return m;
+    }
+
+    uint32_t addFace(const std::array<uint32_t, 3>& v, const std::array<uint32_t, 3>& n) {
+        mesh_.triangles.push_back(v);
+        neighbours_.push_back(n);
+        frozen_.push_back(0);
+        return uint32_t(mesh_.triangles.size() - 1);
+    }
+
+    // Points the neighbour of face f across edge (x, y) at g.
+    void relink(uint32_t f, uint32_t x, uint32_t y, uint32_t g) {
+        if (f == kNone || f == kBlocked) return;
+        const auto& v = mesh_.triangles[f];
+        for (int k = 0; k < 3; ++k)
+            if (undirected(v[k], v[(k + 1) % 3]) == undirected(x, y)) neighbours_[f][k] = g;
+    }
+
+    // Splits edge k of t, (a, b), at a new vertex m at p: t = (a, b, c) becomes
+    // (a, m, c) and (m, b, c); the face beyond, u = (b, a, d), becomes
+    // (b, m, d) and (m, a, d). Orientation is kept.
+    void split(uint32_t t, int k, const Vec3& p) {
+        const auto tv = mesh_.triangles[t];
+        const auto tn = neighbours_[t];
+        const uint32_t a = tv[k], b = tv[(k + 1) % 3], c = tv[(k + 2) % 3];
+        const uint32_t acrossBC = tn[(k + 1) % 3], acrossCA = tn[(k + 2) % 3];
+        const uint32_t u = tn[k];
+        const uint32_t m = addVertex(p);
+        ++statistics_.splits;
+        if (u == kNone) {
+            const uint32_t t2 = addFace({m, b, c}, {kNone, acrossBC, t});
+            mesh_.triangles[t] = {a, m, c};
+            neighbours_[t] = {kNone, t2, acrossCA};
+            relink(acrossBC, b, c, t2);
+            pending_.insert(pending_.end(), {t, t2});
+            return;
+        }
+        const auto uv = mesh_.triangles[u];
+        const auto un = neighbours_[u];
+        int j = 0;
+        while (!(uv[j] == b && uv[(j + 1) % 3] == a)) ++j;
+        const uint32_t d = uv[(j + 2) % 3], acrossAD = un[(j + 1) % 3], acrossDB = un[(j + 2) % 3];
+        const uint32_t t2 = uint32_t(mesh_.triangles.size()), u2 = t2 + 1;
+        addFace({m, b, c}, {u, acrossBC, t});
+        addFace({m, a, d}, {t, acrossAD, u});
+        mesh_.triangles[t] = {a, m, c};
+        neighbours_[t] = {u2, t2, acrossCA};
+        mesh_.triangles[u] = {b, m, d};
+        neighbours_[u] = {t2, u2, acrossDB};
+        relink(acrossBC, b, c, t2);
+        relink(acrossAD, a, d, u2);
+        pending_.insert(pending_.end(), {t, t2, u, u2});
+    }
+
+    IndexedMesh& mesh_;
+    const FieldProgram& field_;
+    RefineOptions options_;
+    std::vector<std::array<uint32_t, 3>> neighbours_;
+    std::vector<uint32_t> pending_, path_;
+    std::vector<char> frozen_;  ///< faces not to refine further
+    double leastReliableGradient_ = 0.0;
+    size_t maxFaces_ = 0;
+    double longestInput_ = 0.0;
+    Box3 inputBox_;
+    RefineStatistics statistics_;
+};
+
+}  // namespace
+
+RefineStatistics refineMesh(IndexedMesh& mesh, const FieldProgram& field, const RefineOptions& options) {
+    if (mesh.triangles.empty()) return {};
+    return Refiner(mesh, field, options).run();
+}
+
+}  // namespace isotrace::geometry

@@ -1,0 +1,123 @@
+#include "geometry/meshing/mesh_refiner.h"
+
+#include <gtest/gtest.h>
+
+#include <set>
+
+#include "geometry/meshing/marching_cubes.h"
+#include "geometry/meshing/mesh_analysis.h"
+#include "support/compile_field.h"
+
+using namespace isotrace::geometry;
+using isotrace::testing::compileField;
+
+namespace {
+
+IndexedMesh coarseMesh(const FieldProgram& field, int resolution, bool sharp = false) {
+    MarchingCubesOptions o;
+    o.resolution = resolution;
+    o.sharpFeatures = sharp;
+    return marchingCubes(field, field.bounds(), o);
+}
+
+}  // namespace
+
+// Refinement brings every face within the tolerance, keeps the vertices on
+// the surface and the mesh conforming (watertight, manifold, oriented, same
+// genus), and splits only where the surface needs it: fewer faces than a
+// uniform mesh of that accuracy.
+TEST(MeshRefiner, EveryFaceWithinTheToleranceAndTheTopologyKept) {
+    struct Case {
+        const char* json;
+        long long euler;
+    };
+    for (const Case& c : {Case{R"({"type": "sphere", "radius": 1})", 2},
+                          Case{R"({"type": "torus", "major": 1, "minor": 0.3})", 0},
+                          Case{R"({"type": "polynomial", "preset": "tangle"})", -8}}) {
+        const FieldProgram field = compileField(c.json);
+        IndexedMesh m = coarseMesh(field, 24);
+        const size_t before = m.triangles.size();
+        const double coarse = measureAccuracy(m, field).maxCentroidDistance;
+        const double tolerance = coarse / 16;
+        const RefineStatistics s = refineMesh(m, field, {.maxDistance = tolerance});
+        const MeshAccuracy a = measureAccuracy(m, field);
+        const MeshTopology t = analyzeTopology(m);
+        EXPECT_LE(a.maxCentroidDistance, tolerance) << c.json;
+        EXPECT_LE(a.maxVertexDistance, 1e-3 * tolerance) << c.json;
+        EXPECT_EQ(s.facesBeyond, 0u) << c.json;
+        EXPECT_EQ(s.refusedSplits, 0u) << c.json;
+        EXPECT_TRUE(t.watertight()) << c.json;
+        EXPECT_TRUE(t.manifold()) << c.json;
+        EXPECT_TRUE(t.oriented()) << c.json;
+        EXPECT_EQ(t.eulerCharacteristic, c.euler) << c.json;
+        EXPECT_EQ(m.triangles.size(), before + 2 * s.splits) << c.json << ": each split of an inner edge adds two faces";
+        // A uniform mesh 16 times as accurate needs 4 times shorter edges,
+        // 16 times the faces; refinement stays below.
+        EXPECT_GT(m.triangles.size(), 2 * before) << c.json;
+        EXPECT_LT(m.triangles.size(), 16 * before) << c.json;
+    }
+}
+
+// New vertices get the field's normal, like marching cubes' own.
+TEST(MeshRefiner, NewVerticesGetTheFieldsNormals) {
+    const FieldProgram field = compileField(R"({"type": "sphere", "radius": 1})");
+    IndexedMesh m = coarseMesh(field, 16);
+    ASSERT_EQ(m.normals.size(), m.vertices.size());
+    const size_t before = m.vertices.size();
+    refineMesh(m, field, {.maxDistance = 1e-4});
+    ASSERT_GT(m.vertices.size(), before);
+    ASSERT_EQ(m.normals.size(), m.vertices.size());
+    for (size_t v = before; v < m.vertices.size(); ++v) {
+        EXPECT_NEAR(m.vertices[v].norm(), 1.0, 1e-7);
+        EXPECT_NEAR(m.normals[v].dot(m.vertices[v].normalized()), 1.0, 1e-9);
+    }
+}
+
+// A surface cut open where marching cubes' grid ends: the edges of the
+// opening are split with their one face, on the grid's box, and no new
+// boundary appears inside.
+TEST(MeshRefiner, OpenMeshesStayFreeOfCracks) {
+    const FieldProgram field =
+        compileField(R"({"type": "sphere", "radius": 1, "bounds": [[-2, -2, -2], [2, 2, 0.5]]})");
+    IndexedMesh m = coarseMesh(field, 16);
+    const MeshTopology before = analyzeTopology(m);
+    ASSERT_GT(before.boundaryEdges, 0u) << "the test needs a boundary";
+    double top = -1;
+    for (const Vec3& v : m.vertices) top = std::max(top, v.z());
+    const RefineStatistics s = refineMesh(m, field, {.maxDistance = 1e-4});
+    ASSERT_GT(s.splits, 0u);
+    const MeshTopology after = analyzeTopology(m);
+    EXPECT_EQ(after.nonManifoldEdges, 0u);
+    EXPECT_EQ(after.nonManifoldVertices, 0u);
+    EXPECT_TRUE(after.oriented());
+    // The boundary is one loop: V - E + F of a disc.
+    EXPECT_EQ(after.eulerCharacteristic, before.eulerCharacteristic);
+    for (const auto& tri : m.triangles)
+        for (int k = 0; k < 3; ++k) ASSERT_LE(m.vertices[tri[k]].z(), top);
+    EXPECT_GE(after.boundaryEdges, before.boundaryEdges);
+}
+
+// Where no split can reach the tolerance, refinement stops at the shortest
+// edge it was given and says how many faces it left.
+TEST(MeshRefiner, StopsAtTheShortestEdgeAndCountsWhatIsLeft) {
+    const FieldProgram field = compileField(R"({"type": "sphere", "radius": 1})");
+    IndexedMesh m = coarseMesh(field, 8);
+    auto longestEdge = [&](const std::array<uint32_t, 3>& tri) {
+        double longest = 0;
+        for (int k = 0; k < 3; ++k) longest = std::max(longest, (m.vertices[tri[k]] - m.vertices[tri[(k + 1) % 3]]).norm());
+        return longest;
+    };
+    // Faces marching cubes made short already (slivers) are not split.
+    std::set<std::array<uint32_t, 3>> shortBefore;
+    for (const auto& tri : m.triangles)
+        if (longestEdge(tri) < 0.05) shortBefore.insert(tri);
+    const RefineStatistics s = refineMesh(m, field, {.maxDistance = 1e-14, .minEdgeLength = 0.05});
+    ASSERT_GT(s.splits, 0u);
+    EXPECT_EQ(s.facesBeyond, m.triangles.size()) << "every face is too far at 1e-14";
+    // A split face's halves keep at least half its longest edge.
+    for (const auto& tri : m.triangles)
+        if (!shortBefore.count(tri)) {
+            EXPECT_GE(longestEdge(tri), 0.02);
+        }
+    EXPECT_TRUE(analyzeTopology(m).watertight());
+}
