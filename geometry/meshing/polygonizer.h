@@ -19,7 +19,10 @@ enum class PolygonizeMethod { MarchingCubes, Adaptive };
 struct PolygonizeOptions {
     PolygonizeMethod method = PolygonizeMethod::MarchingCubes;
     int resolution = 0;      ///< cells along the longest side; 0: 128, or chosen for `tolerance`
-    double tolerance = 0.0;  ///< largest distance of vertices and face centroids to the surface; 0: none
+    /// Largest distance of vertices and face centroids to the surface; 0:
+    /// none for marching cubes, and for the adaptive mesher a quarter of
+    /// what marching cubes reaches on half the grid.
+    double tolerance = 0.0;
     int threads = 0;
 };
 
