@@ -80,3 +80,19 @@ TEST(Polygonizer, AdaptiveToleranceIsMetFromACoarserGrid) {
     EXPECT_LT(a.mesh.triangles.size(), p.mesh.triangles.size() / 2);
     EXPECT_TRUE(a.warnings.empty());
 }
+
+// A tolerance no mesh of sensible size can meet ends the refinement at its
+// limits (edges of 1/64 of a cell, sixteen times the faces) with a warning
+// that says so, not a hang.
+TEST(Polygonizer, AdaptiveWarnsOfATolerancePastItsReach) {
+    const FieldProgram sphere = compileField(R"({"type": "sphere", "radius": 1})");
+    PolygonizeOptions o;
+    o.method = PolygonizeMethod::Adaptive;
+    o.resolution = 16;
+    o.tolerance = 1e-12;
+    const auto r = polygonize(sphere, o);
+    ASSERT_EQ(r.warnings.size(), 1u);
+    EXPECT_NE(r.warnings[0].find("faces stay farther than the tolerance"), std::string::npos) << r.warnings[0];
+    EXPECT_TRUE(analyzeTopology(r.mesh).watertight());
+    EXPECT_EQ(analyzeTopology(r.mesh).eulerCharacteristic, 2);
+}
