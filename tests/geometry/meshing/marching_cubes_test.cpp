@@ -7,24 +7,15 @@
 #include "geometry/description/field_parser.h"
 #include "geometry/meshing/mesh_analysis.h"
 #include "support/compile_field.h"
+#include "support/marching_cubes_mesh.h"
 #include "support/field_catalog.h"
 
 using namespace isotrace::geometry;
 using isotrace::testing::compileField;
+using isotrace::testing::marchingCubesMesh;
 using isotrace::testing::CatalogEntry;
 using isotrace::testing::compileCatalogEntry;
 using isotrace::testing::fieldCatalog;
-
-namespace {
-
-IndexedMesh mesh(const FieldProgram& f, int resolution, bool sharp = false) {
-    MarchingCubesOptions o;
-    o.resolution = resolution;
-    o.sharpFeatures = sharp;
-    return marchingCubes(f, f.bounds(), o);
-}
-
-}  // namespace
 
 // Euler characteristic 2 - 2g: sphere 2, torus 0, two holes -2, four holes -6.
 TEST(MarchingCubes, EulerCharacteristicMatchesGenus) {
@@ -43,7 +34,7 @@ TEST(MarchingCubes, EulerCharacteristicMatchesGenus) {
     };
     for (const Case& c : cases) {
         for (bool sharp : {false, true}) {
-            const IndexedMesh m = mesh(compileField(c.json), 64, sharp);
+            const IndexedMesh m = marchingCubesMesh(compileField(c.json), 64, sharp);
             const MeshTopology t = analyzeTopology(m);
             EXPECT_EQ(t.eulerCharacteristic, c.euler) << c.json << (sharp ? " (sharp)" : "");
             EXPECT_TRUE(t.watertight()) << c.json;
@@ -59,7 +50,7 @@ class EveryFieldMeshes : public ::testing::TestWithParam<CatalogEntry> {};
 TEST_P(EveryFieldMeshes, WatertightManifoldAndOriented) {
     const FieldProgram field = compileCatalogEntry(GetParam());
     for (bool sharp : {false, true}) {
-        const IndexedMesh m = mesh(field, 48, sharp);
+        const IndexedMesh m = marchingCubesMesh(field, 48, sharp);
         ASSERT_GT(m.triangles.size(), 100u);
         const MeshTopology t = analyzeTopology(m);
         EXPECT_EQ(t.boundaryEdges, 0u) << (sharp ? "sharp" : "plain");
@@ -78,7 +69,7 @@ TEST(MarchingCubes, DistanceToTheSurfaceShrinksAsResolutionGrows) {
     const FieldProgram torus = compileField(R"({"type": "torus", "major": 1, "minor": 0.3})");
     double previous = INFINITY;
     for (int resolution : {16, 32, 64, 128}) {
-        const MeshAccuracy a = measureAccuracy(mesh(torus, resolution), torus);
+        const MeshAccuracy a = measureAccuracy(marchingCubesMesh(torus, resolution), torus);
         EXPECT_LT(a.maxVertexDistance, 1e-6) << "vertices are refined onto the surface";
         EXPECT_LT(a.maxCentroidDistance, 0.6 * previous) << "resolution " << resolution;
         previous = a.maxCentroidDistance;
@@ -89,7 +80,7 @@ TEST(MarchingCubes, SharpFeaturesKeepTheCornersOfABox) {
     const FieldProgram box = compileField(R"({"type": "box", "center": [0.013, 0.021, -0.017], "size": [1.2, 0.9, 0.7]})");
     const int resolution = 24;
     const double h = box.bounds().extent().maxCoeff() / resolution;
-    const IndexedMesh m = mesh(box, resolution, true);
+    const IndexedMesh m = marchingCubesMesh(box, resolution, true);
     for (int c = 0; c < 8; ++c) {
         const Vec3 corner = box.bounds().corner(c);
         double nearest = INFINITY;
@@ -97,7 +88,7 @@ TEST(MarchingCubes, SharpFeaturesKeepTheCornersOfABox) {
         EXPECT_LT(nearest, 0.05 * h) << "corner " << c;
     }
     // Without feature vertices the corners are cut off by about a cell.
-    const IndexedMesh plain = mesh(box, resolution, false);
+    const IndexedMesh plain = marchingCubesMesh(box, resolution, false);
     double nearest = INFINITY;
     for (const Vec3& v : plain.vertices) nearest = std::min(nearest, (v - box.bounds().corner(0)).norm());
     EXPECT_GT(nearest, 0.2 * h);
@@ -135,7 +126,7 @@ TEST(MarchingCubes, SameMeshOnAnyThreadCount) {
 // The four-hole pretzel's tube is thin where its lobes turn (|grad| is large
 // there), so it needs a finer grid than the others to keep its genus.
 TEST(MarchingCubes, FourHolePretzelHasGenusFour) {
-    const IndexedMesh m = mesh(compileField(R"({"type": "polynomial", "preset": "pretzel4"})"), 192);
+    const IndexedMesh m = marchingCubesMesh(compileField(R"({"type": "polynomial", "preset": "pretzel4"})"), 192);
     const MeshTopology t = analyzeTopology(m);
     EXPECT_EQ(t.eulerCharacteristic, -6);
     EXPECT_TRUE(t.watertight());
@@ -147,7 +138,8 @@ TEST(MarchingCubes, FourHolePretzelHasGenusFour) {
 // 12 - 5 joining ones, genus 13, Euler characteristic -24 (the same at 96
 // and 160 cells).
 TEST(MarchingCubes, DecocubeHasGenusThirteen) {
-    const MeshTopology t = analyzeTopology(mesh(compileField(R"({"type": "polynomial", "preset": "decocube"})"), 96));
+    const MeshTopology t =
+        analyzeTopology(marchingCubesMesh(compileField(R"({"type": "polynomial", "preset": "decocube"})"), 96));
     EXPECT_EQ(t.eulerCharacteristic, -24);
 }
 
@@ -164,7 +156,7 @@ TEST(MarchingCubes, EveryFieldOfEverySceneIsWatertightAndManifold) {
             if (!field.bounds().isFinite()) continue;
             // primitives.json shows a hyperboloid cut open by its domain: not closed.
             if (entry.path().filename() == "primitives.json" && name == "quadric") continue;
-            const MeshTopology t = analyzeTopology(mesh(field, 64));
+            const MeshTopology t = analyzeTopology(marchingCubesMesh(field, 64));
             EXPECT_TRUE(t.watertight()) << entry.path().filename() << " " << name;
             EXPECT_TRUE(t.manifold()) << entry.path().filename() << " " << name;
             ++checked;

@@ -7,20 +7,11 @@
 #include "geometry/meshing/marching_cubes.h"
 #include "geometry/meshing/mesh_analysis.h"
 #include "support/compile_field.h"
+#include "support/marching_cubes_mesh.h"
 
 using namespace isotrace::geometry;
 using isotrace::testing::compileField;
-
-namespace {
-
-IndexedMesh coarseMesh(const FieldProgram& field, int resolution, bool sharp = false) {
-    MarchingCubesOptions o;
-    o.resolution = resolution;
-    o.sharpFeatures = sharp;
-    return marchingCubes(field, field.bounds(), o);
-}
-
-}  // namespace
+using isotrace::testing::marchingCubesMesh;
 
 // Refinement brings every face within the tolerance, keeps the vertices on
 // the surface and the mesh conforming (watertight, manifold, oriented, same
@@ -35,7 +26,7 @@ TEST(MeshRefiner, EveryFaceWithinTheToleranceAndTheTopologyKept) {
                           Case{R"({"type": "torus", "major": 1, "minor": 0.3})", 0},
                           Case{R"({"type": "polynomial", "preset": "tangle"})", -8}}) {
         const FieldProgram field = compileField(c.json);
-        IndexedMesh m = coarseMesh(field, 24);
+        IndexedMesh m = marchingCubesMesh(field, 24);
         const size_t before = m.triangles.size();
         const double coarse = measureAccuracy(m, field).maxCentroidDistance;
         const double tolerance = coarse / 16;
@@ -61,7 +52,7 @@ TEST(MeshRefiner, EveryFaceWithinTheToleranceAndTheTopologyKept) {
 // New vertices get the field's normal, like marching cubes' own.
 TEST(MeshRefiner, NewVerticesGetTheFieldsNormals) {
     const FieldProgram field = compileField(R"({"type": "sphere", "radius": 1})");
-    IndexedMesh m = coarseMesh(field, 16);
+    IndexedMesh m = marchingCubesMesh(field, 16);
     ASSERT_EQ(m.normals.size(), m.vertices.size());
     const size_t before = m.vertices.size();
     refineMesh(m, field, {.maxDistance = 1e-4});
@@ -79,7 +70,7 @@ TEST(MeshRefiner, NewVerticesGetTheFieldsNormals) {
 TEST(MeshRefiner, OpenMeshesStayFreeOfCracks) {
     const FieldProgram field =
         compileField(R"({"type": "sphere", "radius": 1, "bounds": [[-2, -2, -2], [2, 2, 0.5]]})");
-    IndexedMesh m = coarseMesh(field, 16);
+    IndexedMesh m = marchingCubesMesh(field, 16);
     const MeshTopology before = analyzeTopology(m);
     ASSERT_GT(before.boundaryEdges, 0u) << "the test needs a boundary";
     double top = -1;
@@ -101,7 +92,7 @@ TEST(MeshRefiner, OpenMeshesStayFreeOfCracks) {
 // edge it was given and says how many faces it left.
 TEST(MeshRefiner, StopsAtTheShortestEdgeAndCountsWhatIsLeft) {
     const FieldProgram field = compileField(R"({"type": "sphere", "radius": 1})");
-    IndexedMesh m = coarseMesh(field, 8);
+    IndexedMesh m = marchingCubesMesh(field, 8);
     auto longestEdge = [&](const std::array<uint32_t, 3>& tri) {
         double longest = 0;
         for (int k = 0; k < 3; ++k) longest = std::max(longest, (m.vertices[tri[k]] - m.vertices[tri[(k + 1) % 3]]).norm());
