@@ -15,8 +15,8 @@ namespace isotrace::geometry {
 namespace {
 
 constexpr uint32_t kNone = std::numeric_limits<uint32_t>::max();
-/// Across an edge of more than two faces: never split (it would leave the
-/// others a crack).
+/// Across an edge of more than two faces, or of two oriented alike: never
+/// split (it would leave the others a crack).
 constexpr uint32_t kBlocked = kNone - 1;
 /// Refinement stops when the faces have grown this many times (from half
 /// the grid to the accuracy of the whole one takes about three).
@@ -60,13 +60,15 @@ public:
                 refine(t);
         }
         RefineStatistics s = statistics_;
-        for (uint32_t t = 0; t < mesh_.triangles.size(); ++t) s.facesBeyond += beyond(t);
+        std::vector<char> left(mesh_.triangles.size(), 0);
+        tbb::parallel_for(size_t(0), left.size(), [&](size_t t) { left[t] = beyond(uint32_t(t)); });
+        s.facesBeyond = size_t(std::count(left.begin(), left.end(), 1));
         return s;
     }
 
 private:
     // neighbours_[t][k]: the face across edge k of t (from vertex k to k + 1),
-    // kNone on a boundary, kBlocked on a non-manifold edge.
+    // kNone on a boundary, kBlocked on a non-manifold or misoriented edge.
     void findNeighbours() {
         const size_t n = mesh_.triangles.size();
         neighbours_.assign(n, {kNone, kNone, kNone});
@@ -79,16 +81,22 @@ private:
         for (size_t i = 0; i < halfEdges.size();) {
             size_t j = i + 1;
             while (j < halfEdges.size() && halfEdges[j].first == halfEdges[i].first) ++j;
-            if (j - i == 2) {
-                const uint32_t a = halfEdges[i].second, b = halfEdges[i + 1].second;
+            // Two faces running opposite ways along the edge are neighbours;
+            // more, or two running the same way, block it.
+            const uint32_t a = halfEdges[i].second, b = j - i == 2 ? halfEdges[i + 1].second : 0;
+            if (j - i == 2 && from(a) == to(b)) {
                 neighbours_[a / 3][a % 3] = b / 3;
                 neighbours_[b / 3][b % 3] = a / 3;
-            } else if (j - i > 2) {
+            } else if (j - i >= 2) {
                 for (size_t h = i; h < j; ++h) neighbours_[halfEdges[h].second / 3][halfEdges[h].second % 3] = kBlocked;
             }
             i = j;
         }
     }
+
+    // The vertices a half-edge (3 face + k) runs from and to.
+    uint32_t from(uint32_t halfEdge) const { return mesh_.triangles[halfEdge / 3][halfEdge % 3]; }
+    uint32_t to(uint32_t halfEdge) const { return mesh_.triangles[halfEdge / 3][(halfEdge % 3 + 1) % 3]; }
 
     double distance(const Vec3& p, double* gradientNorm = nullptr) const {
         Vec3 g;

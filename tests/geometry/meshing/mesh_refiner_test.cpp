@@ -112,3 +112,35 @@ TEST(MeshRefiner, StopsAtTheShortestEdgeAndCountsWhatIsLeft) {
         }
     EXPECT_TRUE(analyzeTopology(m).watertight());
 }
+
+// An edge whose two faces run the same way along it (one turned over) is
+// never split: reading them as an ordinary pair would go wrong, and splitting
+// one side only would leave a crack. Here it is the longest edge of both, so
+// neither face can be refined.
+TEST(MeshRefiner, AnEdgeOfTwoFacesOrientedAlikeStaysWhole) {
+    const FieldProgram field = compileField(R"({"type": "sphere", "radius": 1})");
+    IndexedMesh m;
+    m.vertices = {Vec3(0, -1, 0), Vec3(0, 1, 0), Vec3(0.6, 0, 0.8), Vec3(-0.6, 0, 0.8)};
+    m.triangles = {{0, 1, 2}, {0, 1, 3}};
+    const RefineStatistics r = refineMesh(m, field, {.maxDistance = 1e-3});
+    EXPECT_EQ(r.splits, 0u);
+    EXPECT_EQ(r.facesBeyond, 2u);
+    EXPECT_EQ(m.triangles.size(), 2u);
+}
+
+// The same for an edge of three faces (a fin): refinement goes on around it.
+TEST(MeshRefiner, AnEdgeOfThreeFacesStaysWhole) {
+    const FieldProgram field = compileField(R"({"type": "sphere", "radius": 1})");
+    IndexedMesh m = marchingCubesMesh(field, 8);
+    const auto finned = m.triangles.back();
+    m.vertices.push_back(Vec3(0, 0, 0));
+    m.triangles.push_back({finned[1], finned[0], uint32_t(m.vertices.size() - 1)});
+    const RefineStatistics r = refineMesh(m, field, {.maxDistance = 1e-4, .minEdgeLength = 0.05});
+    EXPECT_GT(r.splits, 0u) << "the faces of sound edges are refined";
+    size_t withEdge = 0;
+    for (const auto& tri : m.triangles)
+        for (int k = 0; k < 3; ++k)
+            withEdge += (tri[k] == finned[0] && tri[(k + 1) % 3] == finned[1]) ||
+                        (tri[k] == finned[1] && tri[(k + 1) % 3] == finned[0]);
+    EXPECT_EQ(withEdge, 3u);
+}
