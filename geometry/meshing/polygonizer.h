@@ -20,8 +20,8 @@ struct PolygonizeOptions {
     PolygonizeMethod method = PolygonizeMethod::MarchingCubes;
     int resolution = 0;      ///< cells along the longest side; 0: 128, or chosen for `tolerance`
     /// Largest distance of vertices and face centroids to the surface; 0:
-    /// none for marching cubes, and for the adaptive mesher a quarter of
-    /// what marching cubes reaches on half the grid.
+    /// none for marching cubes, and for the adaptive mesher what marching
+    /// cubes reaches on the grid (extracting there, not on half of it).
     double tolerance = 0.0;
     int threads = 0;
 };
@@ -29,7 +29,9 @@ struct PolygonizeOptions {
 struct Polygonization {
     IndexedMesh mesh;
     int resolution = 0;            ///< the grid given, or for a tolerance the one marching cubes used
-    int extractionResolution = 0;  ///< of the marching-cubes grid used (half of it for the adaptive mesher)
+    /// Of the marching-cubes grid used: half the resolution for the adaptive
+    /// mesher given a tolerance.
+    int extractionResolution = 0;
     double seconds = 0.0;
     /// The stages: marching cubes (with the search for a grid), and for the
     /// adaptive mesher refinement and simplification.
