@@ -78,12 +78,7 @@ double triangleAspectRatio(const Vec3& a, const Vec3& b, const Vec3& c) {
 
 MeshAccuracy measureAccuracy(const IndexedMesh& mesh, const FieldProgram& field) {
     MeshAccuracy a;
-    auto distance = [&](const Vec3& p) {
-        Vec3 g;
-        const double f = field.valueAndGradient(p, g);
-        const double n = g.norm();
-        return n > 0 ? std::abs(f) / n : std::abs(f);
-    };
+    auto distance = [&](const Vec3& p) { return surfaceDistance(field, p); };
     size_t used = 0;
     std::vector<bool> isUsed(mesh.vertices.size(), false);
     for (const auto& tri : mesh.triangles)

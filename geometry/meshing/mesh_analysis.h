@@ -2,6 +2,7 @@
 // characteristic) and how closely it follows the field it came from.
 #pragma once
 
+#include <cmath>
 #include <cstddef>
 
 #include "geometry/field_program.h"
@@ -39,6 +40,17 @@ struct MeshAccuracy {
 };
 
 MeshAccuracy measureAccuracy(const IndexedMesh& mesh, const FieldProgram& field);
+
+/// The first-order distance of p to the field's surface, |f| / |grad f| (|f|
+/// where the gradient vanishes): the measure every meshing tolerance is
+/// held to. The gradient's length too, when asked for.
+inline double surfaceDistance(const FieldProgram& field, const Vec3& p, double* gradientNorm = nullptr) {
+    Vec3 g;
+    const double f = field.valueAndGradient(p, g);
+    const double n = g.norm();
+    if (gradientNorm) *gradientNorm = n;
+    return n > 0 ? std::abs(f) / n : std::abs(f);
+}
 
 /// A triangle's longest edge over its shortest altitude, times sqrt(3)/2
 /// (1 for equilateral, infinite for a degenerate triangle).

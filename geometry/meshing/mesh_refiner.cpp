@@ -10,6 +10,8 @@
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_sort.h>
 
+#include "geometry/meshing/mesh_analysis.h"
+
 namespace isotrace::geometry {
 
 namespace {
@@ -99,11 +101,7 @@ private:
     uint32_t to(uint32_t halfEdge) const { return mesh_.triangles[halfEdge / 3][(halfEdge % 3 + 1) % 3]; }
 
     double distance(const Vec3& p, double* gradientNorm = nullptr) const {
-        Vec3 g;
-        const double f = field_.valueAndGradient(p, g);
-        const double n = g.norm();
-        if (gradientNorm) *gradientNorm = n;
-        return n > 0 ? std::abs(f) / n : std::abs(f);
+        return surfaceDistance(field_, p, gradientNorm);
     }
 
     Vec3 centroid(uint32_t t) const {
@@ -292,9 +290,8 @@ private:
         const Vec3 &a = mesh_.vertices[v[k]], &b = mesh_.vertices[v[(k + 1) % 3]],
                    &c = mesh_.vertices[v[(k + 2) % 3]];
         const double length = (a - b).norm();
-        Vec3 outward;
-        const double f = field_.valueAndGradient(p, outward);
-        const double g = outward.norm();
+        Vec3 outward;  // the gradient at p, for the orientation test below
+        const double f = field_.valueAndGradient(p, outward), g = outward.norm();
         if (!((g > 0 ? std::abs(f) / g : std::abs(f)) <= options_.maxDistance)) return false;
         if ((p - a).norm() > kMaxHalf * length || (p - b).norm() > kMaxHalf * length) return false;
         const double reach = std::min(kMaxOpposite * length, longestInput_);

@@ -344,12 +344,7 @@ private:
         return Quadric::ofPlane(unit, -unit.dot(mesh_.vertices[t[0]]), 0.5 * area2);  // area weighted
     }
 
-    double distanceToSurface(const Vec3& p) const {
-        Vec3 g;
-        const double f = field_.valueAndGradient(p, g);
-        const double n = g.norm();
-        return n > 0 ? std::abs(f) / n : std::abs(f);
-    }
+    double distanceToSurface(const Vec3& p) const { return surfaceDistance(field_, p); }
 
     // The quadric's minimum, where it has one near the edge pa-pb: a far
     // minimum means an ill-conditioned quadric.

@@ -115,19 +115,19 @@ Polygonization polygonize(const FieldProgram& field, const PolygonizeOptions& op
     } else if (adaptive) {
         // Refinement with a tolerance only: without one the grid is the whole
         // one and already meets it.
-        const bool refine = options.tolerance > 0;
-        const auto refinement = stageStart();
-        const double cell = bounds.extent().maxCoeff() / result.extractionResolution;
-        const RefineStatistics refined =
-            refine ? refineMesh(m, field, {.maxDistance = tolerance, .minEdgeLength = kMinEdgeFraction * cell})
-                   : RefineStatistics{};
-        if (refined.facesBeyond > 0)
-            result.warnings.push_back(std::to_string(refined.facesBeyond) + " faces stay farther than the tolerance " +
-                                      std::to_string(tolerance) +
-                                      " from the surface: the field is not smooth there, or its gradient nearly "
-                                      "vanishes (refinement stops at edges of 1/" +
-                                      std::to_string(int(1 / kMinEdgeFraction)) + " of a cell)");
-        if (refine) result.refinementSeconds = secondsSince(refinement);
+        if (options.tolerance > 0) {
+            const auto refinement = stageStart();
+            const double cell = bounds.extent().maxCoeff() / result.extractionResolution;
+            const RefineStatistics refined =
+                refineMesh(m, field, {.maxDistance = tolerance, .minEdgeLength = kMinEdgeFraction * cell});
+            if (refined.facesBeyond > 0)
+                result.warnings.push_back(std::to_string(refined.facesBeyond) +
+                                          " faces stay farther than the tolerance " + std::to_string(tolerance) +
+                                          " from the surface: the field is not smooth there, or its gradient nearly "
+                                          "vanishes (refinement stops at edges of 1/" +
+                                          std::to_string(int(1 / kMinEdgeFraction)) + " of a cell)");
+            result.refinementSeconds = secondsSince(refinement);
+        }
         const auto simplification = stageStart();
         SimplifyOptions s;
         s.maxDistance = tolerance;
@@ -136,7 +136,7 @@ Polygonization polygonize(const FieldProgram& field, const PolygonizeOptions& op
         result.simplificationSeconds = secondsSince(simplification);
     }
     result.mesh = std::move(m);
-    result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    result.seconds = secondsSince(start);
     return result;
 }
 
