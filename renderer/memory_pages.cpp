@@ -49,10 +49,9 @@ void adviseHugePages(void* data, size_t bytes) {
 
 void populatePages(void* data, size_t bytes) {
     if (bytes < kMinimumBytes) return;
-    if (uintptr_t first, last; wholePages(data, bytes, first, last)) {
-        madvise(reinterpret_cast<void*>(first), last - first, MADV_HUGEPAGE);
+    adviseHugePages(data, bytes);
+    if (uintptr_t first, last; wholePages(data, bytes, first, last))
         madvise(reinterpret_cast<void*>(first), last - first, MADV_POPULATE_WRITE);
-    }
 }
 
 }  // namespace isotrace
