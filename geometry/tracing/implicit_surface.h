@@ -45,6 +45,9 @@ struct ImplicitSurfaceOptions {
 
 struct SurfaceCell {
     Box3 box;
+    /// An accelerated part's band (CellAcceleration::bands), next to its
+    /// box: what a ray offered the part reads first.
+    PartBand band;
     double lipschitz = 0.0;
     uint32_t program = 0;  ///< index into ImplicitSurface::cellPrograms
     int32_t tracer = -1;   ///< the accelerator's tracer that marches it, or -1

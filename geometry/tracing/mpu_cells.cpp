@@ -52,18 +52,16 @@ struct PartModel {
 };
 
 // A part: its box (in the leaf's frame, shrunk to where its model may hold
-// zero), its locals, and its model of N, fitted over the box it was carved
-// as (about that box's centre). The surface lies where |L| <= band, L the
-// model's tangent plane at the centre and band its error plus the reach of
-// its curvature: a slab a ray crosses in closed form, so rays that miss it
-// cost nothing more. The model lives in the part: a ray that enters the band
-// reads it next to what it has just read.
+// zero), its locals, and the rest of its model of N, fitted over the box it
+// was carved as (about that box's centre). The model's value and gradient
+// at the centre are the part's PartBand (kept by ImplicitSurface beside the
+// part's box): the surface lies where |L| <= band, L the model's tangent
+// plane at the centre and band its error plus the reach of its curvature, a
+// slab a ray crosses in closed form, so rays that miss it read nothing here.
 struct MpuPart {
     Box3 box;  ///< in the leaf's frame
     uint32_t first = 0, count = 0;
     uint32_t singles = 0;  ///< the list's single-piece locals, which come first
-    Vec3 center = Vec3::Zero(), gradient = Vec3::Zero();
-    double value = 0.0, band = 0.0;
     PartModel model;
 };
 
@@ -81,25 +79,24 @@ public:
                   std::vector<uint32_t> locals)
         : field_(std::move(field)), placement_(placement), parts_(std::move(parts)), locals_(std::move(locals)) {}
 
-    CellTraceResult trace(uint32_t index, const Vec3& origin, const Vec3& direction, double t0, double t1,
-                          const TraceSettings& settings) const override {
-        const MpuPart& part = parts_[index];
+    CellTraceResult trace(uint32_t index, const PartBand& band, const Vec3& origin, const Vec3& direction, double t0,
+                          double t1, const TraceSettings& settings) const override {
         Vec3 o, d;
         rayInLeafFrame(placement_, origin, direction, o, d);
-        if (!placement_.identity && !clipRayToBox(part.box, o, d, t0, t1)) return {};
+        if (!placement_.identity && !clipRayToBox(parts_[index].box, o, d, t0, t1)) return {};
         // Where the ray is within the band of the plane: |alpha + beta t| <= band.
-        const double alpha = part.value + part.gradient.dot(o - part.center), beta = part.gradient.dot(d);
         double enter, leave;
-        if (!raySlabSpan(alpha, beta, part.band, enter, leave)) return {};
+        if (!band.span(o, d, enter, leave)) return {};
         t0 = std::max(t0, enter);
         t1 = std::min(t1, leave);
         CellTraceResult r;
         r.steps = 1;
         if (!(t1 >= t0)) return r;
+        const MpuPart& part = parts_[index];
         const MpuLocalList locals(std::span<const uint32_t>(locals_.data() + part.first, part.count), part.singles);
         const double tolerance = settings.epsilon / direction.norm();
         Vec3 gradient;
-        const bool hit = modelledRoot(part, part.model, locals, o, d, t0, t1, tolerance, settings.anyHit, r, gradient);
+        const bool hit = modelledRoot(part, band, part.model, locals, o, d, t0, t1, tolerance, settings.anyHit, r, gradient);
         if (!hit) return r;
         r.hit = true;
         r.gradientKnown = true;
@@ -131,11 +128,11 @@ private:
     // With anyHit (an occlusion query), a root proven between two signs is
     // enough: it is reported halfway, with the model's gradient, and N is
     // not evaluated to settle it.
-    bool modelledRoot(const MpuPart& part, const PartModel& m, MpuLocalList locals, const Vec3& o,
+    bool modelledRoot(const MpuPart& part, const PartBand& plane, const PartModel& m, MpuLocalList locals, const Vec3& o,
                       const Vec3& d, double t0, double t1, double tolerance, bool anyHit, CellTraceResult& r,
                       Vec3& gradient) const {
-        const NearErrors whole = nearErrors(part, m, o, d, t0, t1);
-        return spansRoot(part, m, locals, o, d, t0, t1, whole.value, whole.slope, 0, 0, true, tolerance, anyHit, r,
+        const NearErrors whole = nearErrors(plane, m, o, d, t0, t1);
+        return spansRoot(part, plane, m, locals, o, d, t0, t1, whole.value, whole.slope, 0, 0, true, tolerance, anyHit, r,
                          gradient);
     }
 
@@ -146,10 +143,10 @@ private:
     struct NearErrors {
         double value, slope;  ///< the slope's per unit of length
     };
-    static NearErrors nearErrors(const MpuPart& part, const PartModel& m, const Vec3& o, const Vec3& d, double a,
+    static NearErrors nearErrors(const PartBand& plane, const PartModel& m, const Vec3& o, const Vec3& d, double a,
                                  double b) {
         if (!std::isfinite(m.hessianError)) return {m.valueError, m.slopeError};
-        const double reach = std::max((o + a * d - part.center).norm(), (o + b * d - part.center).norm());
+        const double reach = std::max((o + a * d - plane.point).norm(), (o + b * d - plane.point).norm());
         const MpuTaylorRemainder near = mpuTaylorRemainder(m.third, m.rounding, reach, m.halfDiagonal);
         return {std::min(m.valueError, near.value), std::min(m.slopeError, near.slope)};
     }
@@ -160,19 +157,19 @@ private:
     // leave undecided is looked at again with the errors of its own
     // distance from the centre (Taylor's remainder grows as its cube), if
     // allowed and clearly smaller, before the exact search takes it.
-    bool spansRoot(const MpuPart& part, const PartModel& m, MpuLocalList locals, const Vec3& o,
+    bool spansRoot(const MpuPart& part, const PartBand& plane, const PartModel& m, MpuLocalList locals, const Vec3& o,
                    const Vec3& d, double t0, double t1, double e, double slopeErrorPerUnit, int outerLeft,
                    int outerRight, bool mayNarrow, double tolerance, bool anyHit, CellTraceResult& r,
                    Vec3& gradient) const {
         // T along the ray: c0 + c1 t + c2 t^2.
-        const Vec3 y0 = o - part.center, hd = m.times(d);
-        const double c0 = part.value + part.gradient.dot(y0) + 0.5 * y0.dot(m.times(y0));
-        const double c1 = part.gradient.dot(d) + y0.dot(hd), c2 = 0.5 * d.dot(hd);
+        const Vec3 y0 = o - plane.point, hd = m.times(d);
+        const double c0 = plane.value + plane.slope.dot(y0) + 0.5 * y0.dot(m.times(y0));
+        const double c1 = plane.slope.dot(d) + y0.dot(hd), c2 = 0.5 * d.dot(hd);
         const double slopeError = slopeErrorPerUnit * d.norm();
         auto model = [&](double t) { return c0 + t * (c1 + t * c2); };
         auto rootBetween = [&](double a, double b) {
             r.t = 0.5 * (a + b);
-            gradient = part.gradient + m.times(o + r.t * d - part.center);
+            gradient = plane.slope + m.times(o + r.t * d - plane.point);
             return true;
         };
         auto modelSlope = [&](double t) { return c1 + 2.0 * c2 * t; };
@@ -215,9 +212,9 @@ private:
                 // Not proven monotone (a ray grazing the surface, or a loose
                 // model): nearer the centre, the errors may decide it.
                 if (mayNarrow) {
-                    const NearErrors near = nearErrors(part, m, o, d, s.a, s.b);
+                    const NearErrors near = nearErrors(plane, m, o, d, s.a, s.b);
                     if (near.value < 0.5 * e) {
-                        if (spansRoot(part, m, locals, o, d, s.a, s.b, near.value, near.slope, left, right, false,
+                        if (spansRoot(part, plane, m, locals, o, d, s.a, s.b, near.value, near.slope, left, right, false,
                                       tolerance, anyHit, r, gradient))
                             return true;
                         continue;
@@ -392,6 +389,7 @@ std::optional<CellAcceleration> MpuCellAccelerator::accelerate(const FieldProgra
     if (!field.bounds().contains(leafBox)) return std::nullopt;
 
     std::vector<MpuPart> parts;
+    std::vector<PartBand> bands;  // parallel to parts
     std::vector<uint32_t> locals, touching;
     // A part over `b` whose locals are locals[first, first + count) (its
     // ancestor's list, shared by the parts carved from it): modelled where
@@ -456,10 +454,7 @@ std::optional<CellAcceleration> MpuCellAccelerator::accelerate(const FieldProgra
             return Interval{t.lo - m.valueError, t.hi + m.valueError};
         });
         if (part.box.isEmpty()) return;
-        part.center = b.center();
-        part.value = m.value;
-        part.gradient = m.gradient;
-        part.band = bandOf(m);
+        bands.push_back({b.center(), m.gradient, m.value, bandOf(m)});
         part.model = PartModel(m);
         part.first = first;
         part.count = count;
@@ -488,6 +483,7 @@ std::optional<CellAcceleration> MpuCellAccelerator::accelerate(const FieldProgra
     std::vector<Box3> boxes;
     for (const MpuPart& part : parts) boxes.push_back(part.box);
     a.parts = worldPartBoxes(placement, boxes, box);
+    a.bands = std::move(bands);
     a.tracer = std::make_unique<MpuCellTracer>(mpu->field, placement, std::move(parts), std::move(locals));
     return a;
 }

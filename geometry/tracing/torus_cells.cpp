@@ -10,7 +10,7 @@ class TorusCellTracer final : public ShapeCellTracer<TorusField> {
 public:
     explicit TorusCellTracer(const ShapeCell<TorusField>& cell) : ShapeCellTracer(cell) {}
 
-    CellTraceResult trace(uint32_t, const Vec3& origin, const Vec3& direction, double t0, double t1,
+    CellTraceResult trace(uint32_t, const PartBand&, const Vec3& origin, const Vec3& direction, double t0, double t1,
                           const TraceSettings& settings) const override {
         CellTraceResult r;
         Vec3 o, D;

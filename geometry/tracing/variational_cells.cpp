@@ -13,9 +13,8 @@ public:
                           std::shared_ptr<const VariationalField> field, const LeafPlacement& placement)
         : models_(std::move(models)), parts_(std::move(parts)), field_(std::move(field)), placement_(placement) {}
 
-    CellTraceResult trace(uint32_t part, const Vec3& origin, const Vec3& direction, double t0, double t1,
-                          const TraceSettings& settings) const override {
-        const VariationalPatch& model = models_[part];
+    CellTraceResult trace(uint32_t part, const PartBand& band, const Vec3& origin, const Vec3& direction, double t0,
+                          double t1, const TraceSettings& settings) const override {
         Vec3 o, d;
         rayInLeafFrame(placement_, origin, direction, o, d);
         // The model holds inside its own box only, the surface lies in its
@@ -25,13 +24,15 @@ public:
         // a ray that misses the band misses the surface (most rays offered a
         // part do), and the march can end where the ray leaves the band. Its
         // start stays, so that the sign there is proven before any anchor.
-        const double alpha = model.coefficients[0] + model.planeSlope.dot(o - model.expansionPoint);
+        // The band is the cell's copy of the model's plane and band: the
+        // model itself is read only by rays that enter it.
         double enter, leave;
-        if (!raySlabSpan(alpha, model.planeSlope.dot(d), model.planeBand, enter, leave)) return {};
+        if (!band.span(o, d, enter, leave)) return {};
         // Widened for rounding in t (relative to t: a far origin).
         const double slack = 1e-12 * (std::abs(t0) + std::abs(t1));
         if (!(leave + slack >= t0 && enter - slack <= t1)) return {};
         t1 = std::min(t1, leave + slack);
+        const VariationalPatch& model = models_[part];
         const PatchTraceResult p =
             tracePatch(model, *field_, o, d, t0, t1, settings.epsilon / direction.norm(), settings.anyHit);
         CellTraceResult r;
@@ -83,6 +84,8 @@ std::optional<CellAcceleration> VariationalCellAccelerator::accelerate(const Fie
     }
     CellAcceleration a;
     a.parts = worldPartBoxes(placement, parts, box);
+    for (const VariationalPatch& model : kept)
+        a.bands.push_back({model.expansionPoint, model.planeSlope, model.coefficients[0], model.planeBand});
     a.tracer = std::make_unique<VariationalCellTracer>(std::move(kept), std::move(parts), variational->field, placement);
     return a;
 }
