@@ -9,6 +9,7 @@
 // bunny), written as PLY, fitted again from its vertices and normals.
 //
 //   mpu_render [width [spp]]        (defaults: 320, 4; the setting is 640 16)
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -25,6 +26,8 @@
 #include "renderer/scene_loader.h"
 
 using namespace isotrace;
+
+constexpr int kRounds = 3;
 
 namespace {
 
@@ -112,7 +115,7 @@ int main(int argc, char** argv) {
             objects.push_back(c.source);
             names.push_back("its own triangles");
         }
-        std::vector<double> renderTime(objects.size());
+        std::vector<std::unique_ptr<Scene>> loaded;
         for (size_t i = 0; i < objects.size(); ++i) {
             SceneOverrides overrides;
             overrides.width = width;
@@ -122,24 +125,40 @@ int main(int argc, char** argv) {
             loadSceneDescription(scene(objects[i]), scenes + "/bench.json", overrides);  // fits (first time)
             const double first = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
             start = std::chrono::steady_clock::now();
-            const auto loaded = loadSceneDescription(scene(objects[i]), scenes + "/bench.json", overrides);
+            loaded.push_back(loadSceneDescription(scene(objects[i]), scenes + "/bench.json", overrides));
             const double load = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-            RenderOptions options;
-            options.threads = 2;
-            options.seed = 1;
-            options.quiet = true;
-            renderTime[i] = bench::medianSeconds(3, [&] { render(*loaded, options); });
-            std::printf("  %-20s first load %6.3f s, load %6.3f s, render %8.3f s (median of 3)", names[i].c_str(), first,
-                        load, renderTime[i]);
+            std::printf("  %-20s first load %6.3f s, load %6.3f s", names[i].c_str(), first, load);
             if (i == 0) {
-                const Steps s = countSteps(*loaded, width, height);
+                const Steps s = countSteps(*loaded[0], width, height);
                 std::printf("; per ray: primary %.1f pieces, %.0f locals; leaving the surface %.1f pieces, %.0f locals",
                             s.primary, s.primaryTerms, s.leaving, s.leavingTerms);
             }
             std::printf("\n");
         }
-        std::printf("  implicit / polygonized: render %.2fx\n", renderTime[0] / renderTime[1]);
-        if (c.source) std::printf("  implicit / its own triangles: render %.2fx\n", renderTime[0] / renderTime[2]);
+        // The renders alternate, so that all see the same drift of a shared
+        // machine; each ratio is the median of the rounds' ratios.
+        RenderOptions options;
+        options.threads = 2;
+        options.seed = 1;
+        options.quiet = true;
+        std::vector<std::vector<double>> seconds(objects.size());
+        for (int round = 0; round < kRounds; ++round)
+            for (size_t i = 0; i < objects.size(); ++i) {
+                const auto start = std::chrono::steady_clock::now();
+                render(*loaded[i], options);
+                seconds[i].push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+            }
+        for (size_t i = 0; i < objects.size(); ++i)
+            std::printf("  %-20s render %8.3f s (median of %d)\n", names[i].c_str(), bench::median(seconds[i]), kRounds);
+        auto ratio = [&](size_t other, const char* label) {
+            std::vector<double> ratios;
+            for (int round = 0; round < kRounds; ++round) ratios.push_back(seconds[0][round] / seconds[other][round]);
+            std::printf("  implicit / %s: render %.2fx (median of the rounds' ratios; %.2f to %.2f)\n", label,
+                        bench::median(ratios), *std::min_element(ratios.begin(), ratios.end()),
+                        *std::max_element(ratios.begin(), ratios.end()));
+        };
+        ratio(1, "polygonized");
+        if (c.source) ratio(2, "its own triangles");
     }
     return 0;
 }
