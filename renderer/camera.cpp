@@ -6,19 +6,26 @@
 namespace isotrace {
 
 PerspectiveCamera::PerspectiveCamera(const CameraSettings& s, int width, int height)
-    : settings_(s), width_(width), height_(height) {
+    : settings_(s) {
     forward_ = (s.to - s.from).normalized();
     right_ = forward_.cross(s.up).normalized();
     up_ = right_.cross(forward_);
-    tanHalfFov_ = std::tan(0.5 * s.verticalFovDegrees * std::numbers::pi / 180.0);
-    aspect_ = double(width) / double(height);
+    const double tanHalfFov = std::tan(0.5 * s.verticalFovDegrees * std::numbers::pi / 180.0);
+    const double halfWidth = tanHalfFov * double(width) / double(height);
+    xScale_ = 2.0 * halfWidth / width;
+    xOffset_ = -halfWidth;
+    yScale_ = -2.0 * tanHalfFov / height;
+    yOffset_ = tanHalfFov;
     if (settings_.focusDistance <= 0) settings_.focusDistance = (s.to - s.from).norm();
 }
 
 Ray PerspectiveCamera::generateRay(double x, double y, const Eigen::Vector2d& lens) const {
-    const double sx = (2.0 * x / width_ - 1.0) * tanHalfFov_ * aspect_;
-    const double sy = (1.0 - 2.0 * y / height_) * tanHalfFov_;
-    const Vec3 direction = (forward_ + sx * right_ + sy * up_).normalized();
+    // Multiplications by constants and one division: the three divisions
+    // here and three more in normalising were a twentieth of a 1-spp
+    // Whitted frame.
+    const double sx = x * xScale_ + xOffset_, sy = y * yScale_ + yOffset_;
+    const Vec3 toPlane = forward_ + sx * right_ + sy * up_;
+    const Vec3 direction = toPlane * (1.0 / toPlane.norm());
     if (settings_.aperture <= 0) return {settings_.from, direction};
     // Thin lens: all rays through the same film point meet on the focal plane.
     const double r = 0.5 * settings_.aperture * std::sqrt(lens.x());

@@ -30,8 +30,9 @@ public:
 private:
     CameraSettings settings_;
     Vec3 right_, up_, forward_;
-    double tanHalfFov_, aspect_;
-    int width_, height_;
+    /// Film position to image-plane coordinates (at distance 1, along
+    /// right_ and up_): sx = x xScale_ + xOffset_, and the same for y.
+    double xScale_, xOffset_, yScale_, yOffset_;
 };
 
 }  // namespace isotrace
