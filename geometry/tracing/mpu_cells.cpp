@@ -96,7 +96,7 @@ public:
         const MpuLocalList locals(std::span<const uint32_t>(locals_.data() + part.first, part.count), part.singles);
         const double tolerance = settings.epsilon / direction.norm();
         Vec3 gradient;
-        const bool hit = modelledRoot(part, band, part.model, locals, o, d, t0, t1, tolerance, settings.anyHit, r, gradient);
+        const bool hit = modelledRoot(band, part.model, locals, o, d, t0, t1, tolerance, settings.anyHit, r, gradient);
         if (!hit) return r;
         r.hit = true;
         r.gradientKnown = true;
@@ -128,11 +128,11 @@ private:
     // With anyHit (an occlusion query), a root proven between two signs is
     // enough: it is reported halfway, with the model's gradient, and N is
     // not evaluated to settle it.
-    bool modelledRoot(const MpuPart& part, const PartBand& plane, const PartModel& m, MpuLocalList locals, const Vec3& o,
+    bool modelledRoot(const PartBand& plane, const PartModel& m, MpuLocalList locals, const Vec3& o,
                       const Vec3& d, double t0, double t1, double tolerance, bool anyHit, CellTraceResult& r,
                       Vec3& gradient) const {
         const NearErrors whole = nearErrors(plane, m, o, d, t0, t1);
-        return spansRoot(part, plane, m, locals, o, d, t0, t1, whole.value, whole.slope, 0, 0, true, tolerance, anyHit, r,
+        return spansRoot(plane, m, locals, o, d, t0, t1, whole.value, whole.slope, 0, 0, true, tolerance, anyHit, r,
                          gradient);
     }
 
@@ -157,7 +157,7 @@ private:
     // leave undecided is looked at again with the errors of its own
     // distance from the centre (Taylor's remainder grows as its cube), if
     // allowed and clearly smaller, before the exact search takes it.
-    bool spansRoot(const MpuPart& part, const PartBand& plane, const PartModel& m, MpuLocalList locals, const Vec3& o,
+    bool spansRoot(const PartBand& plane, const PartModel& m, MpuLocalList locals, const Vec3& o,
                    const Vec3& d, double t0, double t1, double e, double slopeErrorPerUnit, int outerLeft,
                    int outerRight, bool mayNarrow, double tolerance, bool anyHit, CellTraceResult& r,
                    Vec3& gradient) const {
@@ -214,7 +214,7 @@ private:
                 if (mayNarrow) {
                     const NearErrors near = nearErrors(plane, m, o, d, s.a, s.b);
                     if (near.value < 0.5 * e) {
-                        if (spansRoot(part, plane, m, locals, o, d, s.a, s.b, near.value, near.slope, left, right, false,
+                        if (spansRoot(plane, m, locals, o, d, s.a, s.b, near.value, near.slope, left, right, false,
                                       tolerance, anyHit, r, gradient))
                             return true;
                         continue;
