@@ -27,6 +27,15 @@ inline uint64_t hashValues(uint64_t a, uint64_t b) { return mixBits(a ^ mixBits(
 inline uint64_t hashValues(uint64_t a, uint64_t b, uint64_t c) { return hashValues(hashValues(a, b), c); }
 inline uint64_t hashValues(uint64_t a, uint64_t b, uint64_t c, uint64_t d) { return hashValues(hashValues(a, b, c), d); }
 
+/// The bits of v in reverse order.
+inline uint32_t reverseBits(uint32_t v) {
+    v = ((v >> 1) & 0x55555555u) | ((v & 0x55555555u) << 1);
+    v = ((v >> 2) & 0x33333333u) | ((v & 0x33333333u) << 2);
+    v = ((v >> 4) & 0x0F0F0F0Fu) | ((v & 0x0F0F0F0Fu) << 4);
+    v = ((v >> 8) & 0x00FF00FFu) | ((v & 0x00FF00FFu) << 8);
+    return (v >> 16) | (v << 16);
+}
+
 class Sampler {
 public:
     Sampler(SamplerType type, uint64_t seed) : type_(type), seed_(seed) {}
@@ -34,6 +43,7 @@ public:
     void startPixelSample(int x, int y, uint32_t sampleIndex) {
         pixelHash_ = hashValues(seed_, static_cast<uint64_t>(x), static_cast<uint64_t>(y));
         sampleIndex_ = sampleIndex;
+        reversedIndex_ = reverseBits(sampleIndex);
         dimension_ = 0;
     }
     double get1D();
@@ -47,6 +57,7 @@ private:
     uint64_t seed_;
     uint64_t pixelHash_ = 0;
     uint32_t sampleIndex_ = 0;
+    uint32_t reversedIndex_ = 0;  // the sample index's bits reversed, the start of every Sobol dimension's scramble
     uint32_t dimension_ = 0;
 };
 
