@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include <set>
 
 using namespace isotrace;
@@ -77,6 +79,31 @@ TEST(Sampler, SobolDimension1MatchesItsDirectionNumbers) {
             if (index & (1u << k)) expected ^= v[k];
         ASSERT_EQ(sobolDimension1(index), expected) << "index " << index;
     }
+}
+
+// A Sobol sample is the scrambled sample index's point in dimensions 0 and
+// 1, each scrambled again: owenScramble(sobolN(owenScramble(i, low)), seed)
+// with the dimension's hash split into seeds. The sampler computes it
+// without reversing bits twice; the values must be the same bits.
+TEST(Sampler, SobolValuesAreTheScrambledSequence) {
+    auto unit = [](uint32_t v) { return std::min(v / 4294967296.0, 0x1.fffffffffffffp-1); };
+    for (const uint64_t seed : {0ull, 9ull})
+        for (const uint32_t index : {0u, 1u, 5u, 255u, 256u, 70000u, 4000000000u})
+            for (int pixel = 0; pixel < 50; ++pixel) {
+                const int x = pixel * 37 % 500, y = pixel * 11 % 300;
+                Sampler sampler(SamplerType::Sobol, seed);
+                sampler.startPixelSample(x, y, index);
+                const uint64_t pixelHash = hashValues(seed, uint64_t(x), uint64_t(y));
+                for (uint32_t d = 0; d < 7; d += 2) {
+                    const uint64_t h = hashValues(pixelHash, d);
+                    const uint32_t scrambled = owenScramble(index, uint32_t(h));
+                    const Eigen::Vector2d u = sampler.get2D();
+                    ASSERT_EQ(u.x(), unit(owenScramble(sobolDimension0(scrambled), uint32_t(h >> 32))));
+                    ASSERT_EQ(u.y(), unit(owenScramble(sobolDimension1(scrambled), uint32_t(mixBits(h)))));
+                }
+                const uint64_t h = hashValues(pixelHash, 8);
+                ASSERT_EQ(sampler.get1D(), unit(owenScramble(sobolDimension0(owenScramble(index, uint32_t(h))), uint32_t(h >> 32))));
+            }
 }
 
 TEST(Sampler, IndependentValuesHaveTheRightMoments) {
