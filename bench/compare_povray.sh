@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # isotrace against POV-Ray 3.7 (Debian: apt-get install povray) on the same
 # scenes, 640x480, one ray per pixel, 2 threads: whole-process wall time and
-# the render phase (isotrace's "wrote ... in", POV-Ray's "Trace Time"),
-# medians of interleaved runs. Each scene is a pair in bench/peers/:
+# the render phase (isotrace's "wrote ... in", which includes compressing
+# the EXR as rows finish; POV-Ray's "Trace Time", which excludes writing its
+# PNG), medians of interleaved runs. Each scene is a pair in bench/peers/:
 # NAME_whitted.json and NAME.pov (same camera, box and light; POV-Ray's
 # max_gradient is the field's true bound over the box).
 #   bash bench/compare_povray.sh [RUNS [ISOTRACE]]

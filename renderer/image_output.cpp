@@ -4,6 +4,9 @@
 #include <array>
 #include <cmath>
 #include <filesystem>
+#include <cerrno>
+#include <cstring>
+#include <fstream>
 #include <functional>
 #include <stdexcept>
 #include <unistd.h>
@@ -65,7 +68,11 @@ ImageFile readImageFile(const std::string& path, bool withPixels) {
     return isExr(path) ? readExr(path, withPixels) : openImageIo().read(path, withPixels);
 }
 
-void writeImage(const std::string& path, const Image& image, const ImageMetadata& metadata, bool half) {
+namespace {
+
+// A render's file without its pixels: window, frame, R, G, B then the AOV
+// channels, and the metadata.
+ImageFile layoutOf(const Image& image, const ImageMetadata& metadata) {
     ImageFile file;
     file.width = image.width;
     file.height = image.height;
@@ -76,6 +83,13 @@ void writeImage(const std::string& path, const Image& image, const ImageMetadata
     file.channelNames = {"R", "G", "B"};
     file.channelNames.insert(file.channelNames.end(), image.extraChannels.begin(), image.extraChannels.end());
     file.strings = metadata.strings;
+    return file;
+}
+
+}  // namespace
+
+void writeImage(const std::string& path, const Image& image, const ImageMetadata& metadata, bool half) {
+    ImageFile file = layoutOf(image, metadata);
     const size_t pixels = size_t(image.width) * image.height, extra = image.extraChannels.size();
     const SampleFormat format = half ? SampleFormat::Half : SampleFormat::Float;
     if (extra == 0 && isExr(path)) {
@@ -180,6 +194,39 @@ Image readImage(const std::string& path, ImageMetadata* metadata) {
     for (size_t p = 0; p < pixels; ++p)
         for (size_t c = 0; c < extra; ++c) image.extra[p * extra + c] = file.pixels[p * channels + 3 + c];
     return image;
+}
+
+RenderExrWriter::RenderExrWriter(std::string path, ImageMetadata metadata, bool half,
+                                 std::vector<std::pair<std::string, size_t>> lateStrings)
+    : path_(std::move(path)), metadata_(std::move(metadata)), half_(half), late_(std::move(lateStrings)) {}
+
+RenderExrWriter::~RenderExrWriter() = default;
+
+void RenderExrWriter::rowsFinished(const Image& image, int end) {
+    try {
+        if (!writer_) {
+            writer_ = std::make_unique<ExrRowWriter>(layoutOf(image, metadata_), half_ ? SampleFormat::Half : SampleFormat::Float,
+                                                     late_);
+            planes_.clear();
+            for (size_t c = 0; c < 3; ++c) planes_.push_back({image.rgb.data() + c, 3});
+            const size_t extra = image.extraChannels.size();
+            for (size_t k = 0; k < extra; ++k) planes_.push_back({image.extra.data() + k, extra});
+        }
+        writer_->writeRows(planes_, end);
+    } catch (const std::exception& e) {
+        throw std::runtime_error(path_ + ": " + e.what());
+    }
+}
+
+void RenderExrWriter::finish(const Image& image, const std::vector<std::pair<std::string, std::string>>& lateValues) {
+    if (!writer_ || writer_->rowsWritten() < image.height) rowsFinished(image, image.height);
+    const std::string bytes = writer_->finish(lateValues);
+    writeAtomically(path_, [&](const std::string& temporary) {
+        std::ofstream out(temporary, std::ios::binary);
+        out.write(bytes.data(), std::streamsize(bytes.size()));
+        out.close();
+        if (!out) throw std::runtime_error(temporary + ": cannot write image: " + std::strerror(errno));
+    });
 }
 
 }  // namespace isotrace

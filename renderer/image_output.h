@@ -3,11 +3,14 @@
 // in the same folder, then renamed).
 #pragma once
 
+#include <cstddef>
+#include <memory>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "renderer/film.h"
+#include "renderer/image_files/exr_file.h"
 
 namespace isotrace {
 
@@ -15,6 +18,30 @@ namespace isotrace {
 /// OpenEXR, any other format OpenImageIO knows from the extension. Throws
 /// std::runtime_error naming the path on failure.
 void writeImage(const std::string& path, const Image& image, const ImageMetadata& metadata, bool half);
+/// A render's EXR (the channels of writeImage), compressed band by band while
+/// the render goes on: pass rowsFinished() as RenderOptions::rowsFinished,
+/// then call finish(), which puts the whole file in place (nothing is on
+/// disk before). `lateStrings` are attributes known only after the render
+/// (its time), each with the width reserved for its value.
+class RenderExrWriter {
+public:
+    RenderExrWriter(std::string path, ImageMetadata metadata, bool half,
+                    std::vector<std::pair<std::string, size_t>> lateStrings = {});
+    ~RenderExrWriter();
+    /// Rows [previous end, end) of `image` are final. Throws std::runtime_error naming the path.
+    void rowsFinished(const Image& image, int end);
+    /// Writes any rows not handed over yet and the late values, then the file.
+    void finish(const Image& image, const std::vector<std::pair<std::string, std::string>>& lateValues = {});
+
+private:
+    std::string path_;
+    ImageMetadata metadata_;
+    bool half_;
+    std::vector<std::pair<std::string, size_t>> late_;
+    std::unique_ptr<ExrRowWriter> writer_;
+    std::vector<ChannelPlane> planes_;
+};
+
 /// 8-bit sRGB preview, exposure in stops: PNG through libpng (other
 /// extensions through OpenImageIO).
 void writePreviewPng(const std::string& path, const Image& image, double exposure);

@@ -4,7 +4,6 @@
 #include <array>
 #include <atomic>
 #include <chrono>
-#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
@@ -39,6 +38,35 @@ Image render(const Scene& scene, const RenderOptions& options, RenderStatistics*
     const int tilesX = (image.width + kTile - 1) / kTile, tilesY = (image.height + kTile - 1) / kTile;
     ProgressReporter progress(static_cast<long long>(tilesX) * tilesY, "render", options.quiet);
     std::atomic<long long> nonFinite{0};
+
+    // Rows of tiles go to options.rowsFinished in order, as soon as all of
+    // them up to there are done. Whoever takes the turn hands over every
+    // complete row in sequence; a row finished by another thread meanwhile
+    // is seen by the check after the turn is given back (sequentially
+    // consistent: either that check sees the row's last tile, or the
+    // thread that finished it finds the turn free).
+    std::vector<std::atomic<int>> tilesLeftInRow(options.rowsFinished ? tilesY : 0);
+    for (auto& left : tilesLeftInRow) left = tilesX;
+    std::atomic<bool> handingOver{false};
+    int rowsHandedOver = 0;  // rows of tiles; guarded by handingOver
+    auto handOverFinishedRows = [&] {
+        while (!handingOver.exchange(true)) {
+            const int first = rowsHandedOver;
+            int row = first;
+            while (row < tilesY && tilesLeftInRow[row] == 0) ++row;
+            if (row > first) {
+                try {
+                    options.rowsFinished(image, std::min(row * kTile, image.height));
+                } catch (...) {
+                    handingOver = false;
+                    throw;
+                }
+                rowsHandedOver = row;
+            }
+            handingOver = false;
+            if (row == tilesY || tilesLeftInRow[row] != 0) return;
+        }
+    };
 
     // AOVs trace each sample's camera ray once more: only when asked for.
     auto writeAovs = [&](int x, int y, float* out) {
@@ -98,14 +126,29 @@ Image render(const Scene& scene, const RenderOptions& options, RenderStatistics*
         }
         if (dropped) nonFinite += dropped;
         progress.update(1);
+        if (options.rowsFinished && --tilesLeftInRow[tile / tilesX] == 0) handOverFinishedRows();
     };
 
+    // Tiles are taken in reading order, one at a time, by every thread from
+    // one counter: rows of tiles then finish roughly in order, so finished
+    // rows can be handed over (and compressed) while later ones render.
+    // Splitting the range as parallel_for does would finish the lower half
+    // of the frame long before the upper and leave the hand-over to the end.
     tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
+    const int tileCount = tilesX * tilesY;
+    std::atomic<int> nextTile{0};
+    std::atomic<bool> failed{false};
     arena.execute([&] {
-        tbb::parallel_for(tbb::blocked_range<int>(0, tilesX * tilesY, 1), [&](const tbb::blocked_range<int>& r) {
-            for (int t = r.begin(); t != r.end(); ++t) renderTile(t);
+        tbb::parallel_for(0, arena.max_concurrency(), [&](int) {
+            try {
+                for (int t; !failed && (t = nextTile++) < tileCount;) renderTile(t);
+            } catch (...) {
+                failed = true;  // the other threads stop at their next tile
+                throw;
+            }
         });
     });
+    if (options.rowsFinished) handOverFinishedRows();  // every row is done: none is left
     progress.done();
     if (statistics) {
         statistics->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -23,6 +24,13 @@ struct RenderOptions {
     std::vector<std::string> aovs;
     uint64_t seed = 0;
     bool quiet = false;
+    /// Called with `end` whenever window rows [previous end, end) are final,
+    /// in increasing order, never two calls at once, on the render thread
+    /// that finished them: an EXR writer compresses them there while the
+    /// other threads render on. Bands are 16 rows (a row of tiles); the
+    /// last call has end == image.height. An exception thrown here stops
+    /// the render and is rethrown by render().
+    std::function<void(const Image& image, int end)> rowsFinished;
 };
 
 struct RenderStatistics {

@@ -74,16 +74,17 @@ std::string describeCamera(const CameraSettings& c) {
 }
 
 
-// The EXR and its preview are compressed at once, each mostly on one thread.
-// A failed EXR takes its preview with it, so no half-finished pair is left.
+// The image (an EXR's last rows and its assembly, or a whole file of another
+// format) and its preview are written at once, each mostly on one thread. A
+// failed image takes its preview with it, so no half-finished pair is left.
 void writeImageAndPreview(tbb::task_arena& arena, const RenderCommand& cmd, const std::string& output,
-                          const Image& image, const ImageMetadata& meta) {
+                          const std::function<void()>& writeOutput, const Image& image) {
     std::exception_ptr imageError, previewError;
     arena.execute([&] {
         tbb::parallel_invoke(
             [&] {
                 try {
-                    writeImage(output, image, meta, cmd.half);
+                    writeOutput();
                 } catch (...) {
                     imageError = std::current_exception();
                 }
@@ -132,19 +133,30 @@ int runRender(const RenderCommand& cmd) {
     options.threads = cmd.threads;
     options.seed = cmd.seed;
     options.quiet = cmd.quiet;
-    RenderStatistics stats;
-    const Image image = render(*scene, options, &stats);
-
     ImageMetadata meta;
     meta.strings = {{"Software", std::string("isotrace ") + kVersion},
                     {"isotrace:scene", cmd.scene},
                     {"isotrace:scene_hash", sceneHash(cmd.scene)},
                     {"isotrace:spp", std::to_string(scene->film.samplesPerPixel)},
                     {"isotrace:seed", std::to_string(cmd.seed)},
-                    {"isotrace:render_seconds", std::to_string(stats.seconds)},
                     {"isotrace:camera", describeCamera(scene->camera)},
                     {"isotrace:integrator", scene->integrator->typeName()}};
-    writeImageAndPreview(arena, cmd, output, image, meta);
+    // An EXR is compressed band by band as the render finishes rows; its
+    // render time, known last, has a width kept for it in the header.
+    const char* const kRenderSeconds = "isotrace:render_seconds";
+    std::unique_ptr<RenderExrWriter> exr;
+    if (geometry::lowercaseExtension(output) == ".exr") {
+        exr = std::make_unique<RenderExrWriter>(output, meta, cmd.half, std::vector<std::pair<std::string, size_t>>{{kRenderSeconds, 16}});
+        options.rowsFinished = [&](const Image& image, int end) { exr->rowsFinished(image, end); };
+    }
+    RenderStatistics stats;
+    const Image image = render(*scene, options, &stats);
+    const std::string seconds = std::to_string(stats.seconds);
+    writeImageAndPreview(arena, cmd, output, [&] {
+        if (exr) return exr->finish(image, {{kRenderSeconds, seconds}});
+        meta.strings.emplace_back(kRenderSeconds, seconds);
+        writeImage(output, image, meta, cmd.half);
+    }, image);
     if (stats.nonFiniteSamples > 0)
         std::fprintf(stderr, "warning: %lld samples had non-finite radiance and were discarded\n", stats.nonFiniteSamples);
     if (!cmd.quiet)

@@ -12,6 +12,8 @@
 #include <algorithm>
 #include <cmath>
 #include <csignal>
+#include <cstring>
+#include <filesystem>
 #include <limits>
 #include <random>
 
@@ -37,7 +39,8 @@ Image noise(int width, int height) {
 // Writes in a child limited to `limitBytes` per file (SIGXFSZ ignored, so
 // writes fail with EFBIG as on a full disk); returns the child's exit code:
 // 0 written, 2 an error reported.
-int writeWithFileSizeLimit(const std::string& path, bool png, rlim_t limitBytes) {
+enum class Writer { Png, Exr, StreamedExr };
+int writeWithFileSizeLimit(const std::string& path, Writer writer, rlim_t limitBytes) {
     const pid_t child = fork();
     if (child == 0) {
         const rlimit limit{limitBytes, limitBytes};
@@ -45,10 +48,15 @@ int writeWithFileSizeLimit(const std::string& path, bool png, rlim_t limitBytes)
         std::signal(SIGXFSZ, SIG_IGN);
         try {
             const Image image = noise(128, 128);
-            if (png)
+            if (writer == Writer::Png) {
                 writePreviewPng(path, image, 0.0);
-            else
+            } else if (writer == Writer::Exr) {
                 writeImage(path, image, {}, false);
+            } else {
+                RenderExrWriter streamed(path, {}, false);
+                streamed.rowsFinished(image, 100);
+                streamed.finish(image);
+            }
         } catch (const std::exception&) {
             _exit(2);
         }
@@ -69,15 +77,18 @@ size_t filesIn(const std::filesystem::path& folder) {
 
 TEST(ImageOutput, AFullDiskFailsThePreviewAndLeavesNoFile) {
     TemporaryFolder folder;
-    EXPECT_EQ(writeWithFileSizeLimit(folder.file("preview.png"), true, 8192), 2);
+    EXPECT_EQ(writeWithFileSizeLimit(folder.file("preview.png"), Writer::Png, 8192), 2);
     EXPECT_FALSE(std::filesystem::exists(folder.file("preview.png")));
-    EXPECT_EQ(writeWithFileSizeLimit(folder.file("image.exr"), false, 8192), 2);
+    EXPECT_EQ(writeWithFileSizeLimit(folder.file("image.exr"), Writer::Exr, 8192), 2);
     EXPECT_FALSE(std::filesystem::exists(folder.file("image.exr")));
+    EXPECT_EQ(writeWithFileSizeLimit(folder.file("streamed.exr"), Writer::StreamedExr, 8192), 2);
+    EXPECT_FALSE(std::filesystem::exists(folder.file("streamed.exr")));
     EXPECT_EQ(filesIn(folder.path()), 0u) << "no temporary file left behind";
-    // With room, both are written.
-    EXPECT_EQ(writeWithFileSizeLimit(folder.file("preview.png"), true, RLIM_INFINITY), 0);
-    EXPECT_EQ(writeWithFileSizeLimit(folder.file("image.exr"), false, RLIM_INFINITY), 0);
-    EXPECT_EQ(filesIn(folder.path()), 2u);
+    // With room, all are written.
+    EXPECT_EQ(writeWithFileSizeLimit(folder.file("preview.png"), Writer::Png, RLIM_INFINITY), 0);
+    EXPECT_EQ(writeWithFileSizeLimit(folder.file("image.exr"), Writer::Exr, RLIM_INFINITY), 0);
+    EXPECT_EQ(writeWithFileSizeLimit(folder.file("streamed.exr"), Writer::StreamedExr, RLIM_INFINITY), 0);
+    EXPECT_EQ(filesIn(folder.path()), 3u);
 }
 
 // EXR through OpenEXR: a window of a larger frame with AOV channels and
@@ -120,6 +131,69 @@ TEST(ImageOutput, ExrKeepsWindowChannelsAndMetadata) {
         EXPECT_EQ(metadataValue(read, "isotrace:seed"), "7");
         EXPECT_EQ(metadataValue(read, "isotrace:scene"), "a b.json");
     }
+}
+
+// An EXR handed over in uneven bands of rows while they are made holds the
+// same pixels as one written whole (float exactly, half alike), with the
+// window, channels and metadata, and the late value filled in at its place.
+TEST(ImageOutput, StreamedExrMatchesTheWholeWrite) {
+    TemporaryFolder folder;
+    Image image = noise(37, 53);
+    image.x = 2;
+    image.y = 9;
+    image.fullWidth = 50;
+    image.fullHeight = 70;
+    image.extraChannels = {"Z", "id"};
+    for (int i = 0; i < 2 * 37 * 53; ++i) image.extra.push_back(float(i % 97) - 3.5f);
+    ImageMetadata metadata;
+    metadata.strings = {{"isotrace:seed", "7"}};
+    for (const bool half : {false, true}) {
+        const std::string whole = folder.file(half ? "whole-half.exr" : "whole.exr");
+        const std::string streamed = folder.file(half ? "streamed-half.exr" : "streamed.exr");
+        writeImage(whole, image, metadata, half);
+        RenderExrWriter writer(streamed, metadata, half, {{"isotrace:render_seconds", 16}});
+        for (const int end : {1, 16, 17, 40, 52}) writer.rowsFinished(image, end);
+        EXPECT_FALSE(std::filesystem::exists(streamed)) << "nothing on disk before finish";
+        writer.finish(image, {{"isotrace:render_seconds", "12.5"}});  // the last row is handed over by finish
+        ImageMetadata readWhole, readStreamed;
+        const Image a = readImage(whole, &readWhole), b = readImage(streamed, &readStreamed);
+        EXPECT_EQ(b.width, 37);
+        EXPECT_EQ(b.height, 53);
+        EXPECT_EQ(b.x, 2);
+        EXPECT_EQ(b.y, 9);
+        EXPECT_EQ(b.fullWidth, 50);
+        EXPECT_EQ(b.fullHeight, 70);
+        EXPECT_EQ(b.extraChannels, image.extraChannels);
+        ASSERT_EQ(a.rgb.size(), b.rgb.size());
+        ASSERT_EQ(a.extra.size(), b.extra.size());
+        EXPECT_EQ(std::memcmp(a.rgb.data(), b.rgb.data(), a.rgb.size() * sizeof(float)), 0);
+        EXPECT_EQ(std::memcmp(a.extra.data(), b.extra.data(), a.extra.size() * sizeof(float)), 0);
+        if (!half) {
+            EXPECT_EQ(std::memcmp(b.rgb.data(), image.rgb.data(), b.rgb.size() * sizeof(float)), 0);
+        }
+        EXPECT_EQ(metadataValue(readStreamed, "isotrace:seed"), "7");
+        EXPECT_EQ(metadataValue(readStreamed, "isotrace:render_seconds"), "12.5" + std::string(12, ' '));
+    }
+}
+
+// Bands out of order, a file finished with rows missing, and a late value
+// wider than its room are refused.
+TEST(ImageOutput, StreamedExrRefusesMisuse) {
+    ImageFile layout;
+    layout.width = 4;
+    layout.height = 20;
+    layout.channelNames = {"R", "G", "B"};
+    const std::vector<float> rgb(4 * 20 * 3, 0.25f);
+    const std::vector<ChannelPlane> planes = {{rgb.data(), 3}, {rgb.data() + 1, 3}, {rgb.data() + 2, 3}};
+    ExrRowWriter writer(layout, SampleFormat::Float, {{"late", 4}});
+    writer.writeRows(planes, 10);
+    EXPECT_THROW(writer.writeRows(planes, 5), std::invalid_argument);
+    EXPECT_THROW(writer.writeRows(planes, 21), std::invalid_argument);
+    EXPECT_THROW(writer.writeRows({planes[0]}, 15), std::invalid_argument);
+    EXPECT_THROW(writer.finish({}), std::logic_error);
+    writer.writeRows(planes, 20);
+    EXPECT_THROW(writer.finish({{"late", "12345"}}), std::logic_error);
+    EXPECT_THROW(writer.finish({{"unknown", "1"}}), std::logic_error);
 }
 
 // The preview's bytes are the sRGB encoding of the exposed value, rounded:

@@ -3,7 +3,10 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cstring>
+#include <stdexcept>
+#include <vector>
 
 #include "renderer/image_comparison.h"
 #include "support/scene_files.h"
@@ -105,4 +108,45 @@ TEST(Render, ArbitraryOutputVariablesDescribeTheFirstHit) {
     // Colour is the same bits with or without AOVs.
     const Image plain = render(*scene, {.threads = 2, .seed = 1, .quiet = true});
     EXPECT_EQ(std::memcmp(plain.rgb.data(), image.rgb.data(), plain.rgb.size() * sizeof(float)), 0);
+}
+
+// Finished rows are handed over in order, one call at a time, each band
+// final when handed over (its pixels are the finished image's), ending
+// with the last row; a crop's rows are counted inside the window.
+TEST(Render, FinishedRowsAreHandedOverInOrderAndFinal) {
+    TemporaryFolder folder;
+    std::string text = kMixedScene;
+    text.replace(text.find("\"height\": 40"), 12, "\"height\": 150");
+    auto scene = loadSceneText(folder, text);
+    for (const PixelWindow crop : {PixelWindow{}, PixelWindow{5, 3, 40, 120}}) {
+        std::vector<int> ends;
+        std::vector<float> handedOver;
+        std::atomic<int> inside{0};
+        int overlapping = 0;
+        RenderOptions options{.threads = 2, .crop = crop, .seed = 3, .quiet = true};
+        options.rowsFinished = [&](const Image& image, int end) {
+            if (++inside != 1) ++overlapping;
+            const int first = ends.empty() ? 0 : ends.back();
+            handedOver.insert(handedOver.end(), image.rgb.begin() + ptrdiff_t(3) * image.width * first,
+                              image.rgb.begin() + ptrdiff_t(3) * image.width * end);
+            ends.push_back(end);
+            --inside;
+        };
+        const Image image = render(*scene, options);
+        EXPECT_EQ(overlapping, 0);
+        ASSERT_FALSE(ends.empty());
+        EXPECT_TRUE(std::is_sorted(ends.begin(), ends.end()) && std::adjacent_find(ends.begin(), ends.end()) == ends.end());
+        EXPECT_EQ(ends.back(), image.height);
+        ASSERT_EQ(handedOver.size(), image.rgb.size());
+        EXPECT_EQ(std::memcmp(handedOver.data(), image.rgb.data(), image.rgb.size() * sizeof(float)), 0);
+    }
+}
+
+// A writer's failure stops the render and reaches the caller.
+TEST(Render, AFailureToTakeRowsStopsTheRender) {
+    TemporaryFolder folder;
+    auto scene = loadSceneText(folder, kMixedScene);
+    RenderOptions options{.threads = 2, .seed = 3, .quiet = true};
+    options.rowsFinished = [](const Image&, int) { throw std::runtime_error("disk full"); };
+    EXPECT_THROW(render(*scene, options), std::runtime_error);
 }
