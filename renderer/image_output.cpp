@@ -4,9 +4,6 @@
 #include <array>
 #include <cmath>
 #include <filesystem>
-#include <cerrno>
-#include <cstring>
-#include <fstream>
 #include <functional>
 #include <stdexcept>
 #include <unistd.h>
@@ -29,6 +26,16 @@ std::string temporaryPathFor(const std::string& path) {
         .string();
 }
 
+// The finished temporary file renamed to its place, or removed.
+void moveIntoPlace(const std::string& temporary, const std::string& path) {
+    std::error_code ec;
+    std::filesystem::rename(temporary, path, ec);
+    if (ec) {
+        std::filesystem::remove(temporary, ec);
+        throw std::runtime_error(path + ": cannot move the finished image into place: " + ec.message());
+    }
+}
+
 // Files appear only when complete: `write` fills a temporary file in the
 // same folder, which is then renamed; on any failure (or a signal, through
 // PartialFile) it is removed.
@@ -45,12 +52,7 @@ void writeAtomically(const std::string& path, const std::function<void(const std
             message.replace(at, temporary.size(), path);
         throw std::runtime_error(message);
     }
-    std::error_code ec;
-    std::filesystem::rename(temporary, path, ec);
-    if (ec) {
-        std::filesystem::remove(temporary);
-        throw std::runtime_error(path + ": cannot move the finished image into place: " + ec.message());
-    }
+    moveIntoPlace(temporary, path);
 }
 
 bool isExr(const std::string& path) { return geometry::lowercaseExtension(path) == ".exr"; }
@@ -198,15 +200,22 @@ Image readImage(const std::string& path, ImageMetadata* metadata) {
 
 RenderExrWriter::RenderExrWriter(std::string path, ImageMetadata metadata, bool half,
                                  std::vector<std::pair<std::string, size_t>> lateStrings)
-    : path_(std::move(path)), metadata_(std::move(metadata)), half_(half), late_(std::move(lateStrings)) {}
+    : path_(std::move(path)), temporary_(temporaryPathFor(path_)), metadata_(std::move(metadata)), half_(half),
+      late_(std::move(lateStrings)) {}
 
-RenderExrWriter::~RenderExrWriter() = default;
+RenderExrWriter::~RenderExrWriter() {
+    if (!writer_) return;
+    writer_.reset();  // closes the unfinished file
+    std::error_code ignored;
+    std::filesystem::remove(temporary_, ignored);
+}
 
 void RenderExrWriter::rowsFinished(const Image& image, int end) {
     try {
         if (!writer_) {
-            writer_ = std::make_unique<ExrRowWriter>(layoutOf(image, metadata_), half_ ? SampleFormat::Half : SampleFormat::Float,
-                                                     late_);
+            guard_ = std::make_unique<PartialFile>(temporary_);
+            writer_ = std::make_unique<ExrRowWriter>(temporary_, layoutOf(image, metadata_),
+                                                     half_ ? SampleFormat::Half : SampleFormat::Float, late_);
             planes_.clear();
             for (size_t c = 0; c < 3; ++c) planes_.push_back({image.rgb.data() + c, 3});
             const size_t extra = image.extraChannels.size();
@@ -214,19 +223,31 @@ void RenderExrWriter::rowsFinished(const Image& image, int end) {
         }
         writer_->writeRows(planes_, end);
     } catch (const std::exception& e) {
-        throw std::runtime_error(path_ + ": " + e.what());
+        throw std::runtime_error(namingTheOutput(e.what()));
     }
 }
 
 void RenderExrWriter::finish(const Image& image, const std::vector<std::pair<std::string, std::string>>& lateValues) {
     if (!writer_ || writer_->rowsWritten() < image.height) rowsFinished(image, image.height);
-    const std::string bytes = writer_->finish(lateValues);
-    writeAtomically(path_, [&](const std::string& temporary) {
-        std::ofstream out(temporary, std::ios::binary);
-        out.write(bytes.data(), std::streamsize(bytes.size()));
-        out.close();
-        if (!out) throw std::runtime_error(temporary + ": cannot write image: " + std::strerror(errno));
-    });
+    try {
+        writer_->finish(lateValues);
+    } catch (const std::logic_error&) {
+        throw;
+    } catch (const std::exception& e) {
+        throw std::runtime_error(namingTheOutput(e.what()));
+    }
+    writer_.reset();
+    moveIntoPlace(temporary_, path_);
+    guard_.reset();
+}
+
+// Messages name the file the user asked for, not the temporary one.
+std::string RenderExrWriter::namingTheOutput(const std::string& message) const {
+    std::string named = message;
+    for (size_t at = named.find(temporary_); at != std::string::npos; at = named.find(temporary_, at + path_.size()))
+        named.replace(at, temporary_.size(), path_);
+    if (named.find(path_) == std::string::npos) named = path_ + ": " + named;
+    return named;
 }
 
 }  // namespace isotrace

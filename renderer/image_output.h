@@ -11,6 +11,7 @@
 
 #include "renderer/film.h"
 #include "renderer/image_files/exr_file.h"
+#include "renderer/partial_files.h"
 
 namespace isotrace {
 
@@ -18,11 +19,13 @@ namespace isotrace {
 /// OpenEXR, any other format OpenImageIO knows from the extension. Throws
 /// std::runtime_error naming the path on failure.
 void writeImage(const std::string& path, const Image& image, const ImageMetadata& metadata, bool half);
-/// A render's EXR (the channels of writeImage), compressed band by band while
-/// the render goes on: pass rowsFinished() as RenderOptions::rowsFinished,
-/// then call finish(), which puts the whole file in place (nothing is on
-/// disk before). `lateStrings` are attributes known only after the render
-/// (its time), each with the width reserved for its value.
+/// A render's EXR (the channels of writeImage), compressed and written band
+/// by band while the render goes on: pass rowsFinished() as
+/// RenderOptions::rowsFinished, then call finish(). Until then the file has
+/// a temporary name in the same folder, removed if the render fails or is
+/// interrupted; finish() renames it into place. `lateStrings` are
+/// attributes known only after the render (its time), each with the width
+/// reserved for its value.
 class RenderExrWriter {
 public:
     RenderExrWriter(std::string path, ImageMetadata metadata, bool half,
@@ -34,10 +37,12 @@ public:
     void finish(const Image& image, const std::vector<std::pair<std::string, std::string>>& lateValues = {});
 
 private:
-    std::string path_;
+    std::string namingTheOutput(const std::string& message) const;
+    std::string path_, temporary_;
     ImageMetadata metadata_;
     bool half_;
     std::vector<std::pair<std::string, size_t>> late_;
+    std::unique_ptr<PartialFile> guard_;  // removes the temporary file on SIGINT or SIGTERM
     std::unique_ptr<ExrRowWriter> writer_;
     std::vector<ChannelPlane> planes_;
 };

@@ -5,13 +5,16 @@
 #include <OpenEXR/ImfHeader.h>
 #include <OpenEXR/ImfInputFile.h>
 #include <OpenEXR/ImfOutputFile.h>
-#include <OpenEXR/ImfStdIO.h>
+#include <OpenEXR/ImfIO.h>
 #include <OpenEXR/ImfStringAttribute.h>
 #include <OpenEXR/ImfThreading.h>
 
 #include <Imath/half.h>
 
 #include <algorithm>
+#include <cerrno>
+#include <cstring>
+#include <fstream>
 #include <memory>
 #include <stdexcept>
 #include <thread>
@@ -112,14 +115,55 @@ void writeExr(const std::string& path, const ImageFile& image, const float* pixe
     }
 }
 
+// The file, written as OpenEXR asks; the first bytes (the header) are kept
+// as well, so that finish() can find where a late value goes.
+class ExrRowWriter::FileStream : public Imf::OStream {
+public:
+    explicit FileStream(const std::string& path) : Imf::OStream(path.c_str()), file_(path, std::ios::binary | std::ios::trunc) {
+        if (!file_) throw std::runtime_error("cannot open for writing: " + std::string(std::strerror(errno)));
+    }
+    void write(const char c[], int n) override {
+        if (position_ < kHeadBytes) {
+            const size_t kept = std::min<size_t>(size_t(n), kHeadBytes - position_);
+            if (head_.size() < position_ + kept) head_.resize(position_ + kept);
+            head_.replace(position_, kept, c, kept);
+        }
+        file_.write(c, n);
+        position_ += size_t(n);
+        check();
+    }
+    uint64_t tellp() override { return position_; }
+    void seekp(uint64_t position) override {
+        file_.seekp(std::streamoff(position));
+        position_ = size_t(position);
+        check();
+    }
+    const std::string& head() const { return head_; }
+    void close() {
+        file_.close();
+        check();
+    }
+
+private:
+    // Far more than any header here: a few hundred bytes of attributes.
+    static constexpr size_t kHeadBytes = 1 << 16;
+    void check() {
+        if (!file_) throw std::runtime_error(std::strerror(errno));
+    }
+    std::ofstream file_;
+    std::string head_;
+    size_t position_ = 0;
+};
+
 struct ExrRowWriter::Encoder {
-    Imf::StdOSStream bytes;
+    explicit Encoder(const std::string& path) : stream(path) {}
+    FileStream stream;
     std::unique_ptr<Imf::OutputFile> file;
 };
 
-ExrRowWriter::ExrRowWriter(const ImageFile& layout, SampleFormat format,
+ExrRowWriter::ExrRowWriter(const std::string& path, const ImageFile& layout, SampleFormat format,
                            std::vector<std::pair<std::string, size_t>> lateStrings)
-    : layout_(layout), format_(format), late_(std::move(lateStrings)), encoder_(std::make_unique<Encoder>()) {
+    : layout_(layout), format_(format), late_(std::move(lateStrings)) {
     if (format == SampleFormat::Byte) throw std::invalid_argument("ExrRowWriter: EXR stores float or half samples");
     layout_.pixels.clear();
     // Each late value is written as spaces now and overwritten in place by
@@ -127,14 +171,14 @@ ExrRowWriter::ExrRowWriter(const ImageFile& layout, SampleFormat format,
     for (const auto& [name, width] : late_) layout_.strings.emplace_back(name, std::string(width, ' '));
     if (format == SampleFormat::Half) halves_.resize(size_t(layout_.width) * layout_.height * layout_.channelNames.size());
     try {
+        encoder_ = std::make_unique<Encoder>(path);
         // No worker threads of OpenEXR's own: each band is compressed by
         // the thread that hands it over, while the others go on making rows.
-        encoder_->file = std::make_unique<Imf::OutputFile>(encoder_->bytes, headerFor(layout_, format), 0);
+        encoder_->file = std::make_unique<Imf::OutputFile>(encoder_->stream, headerFor(layout_, format), 0);
     } catch (const std::exception& e) {
-        throw std::runtime_error(std::string("cannot write image: ") + e.what());
+        throw std::runtime_error(path + ": cannot write image: " + e.what());
     }
 }
-
 ExrRowWriter::~ExrRowWriter() = default;
 
 void ExrRowWriter::writeRows(const std::vector<ChannelPlane>& planes, int end) {
@@ -166,23 +210,29 @@ void ExrRowWriter::writeRows(const std::vector<ChannelPlane>& planes, int end) {
     rowsWritten_ = end;
 }
 
-std::string ExrRowWriter::finish(const std::vector<std::pair<std::string, std::string>>& lateValues) {
+void ExrRowWriter::finish(const std::vector<std::pair<std::string, std::string>>& lateValues) {
     if (rowsWritten_ != layout_.height) throw std::logic_error("ExrRowWriter::finish: rows are missing");
-    encoder_->file.reset();  // writes the table of row-band offsets
-    std::string bytes = encoder_->bytes.str();
-    for (const auto& [name, value] : lateValues) {
-        const auto reserved = std::find_if(late_.begin(), late_.end(), [&](const auto& l) { return l.first == name; });
-        if (reserved == late_.end() || value.size() > reserved->second)
-            throw std::logic_error("ExrRowWriter::finish: no room was reserved for \"" + name + "\" = \"" + value + "\"");
-        // An attribute is its name, its type, a 4-byte size, then the value;
-        // names are unique and the header comes first in the file.
-        const std::string key = name + '\0' + "string" + '\0';
-        const size_t at = bytes.find(key);
-        if (at == std::string::npos) throw std::logic_error("ExrRowWriter::finish: \"" + name + "\" is not in the header");
-        const size_t valueAt = at + key.size() + 4;
-        std::copy(value.begin(), value.end(), bytes.begin() + ptrdiff_t(valueAt));
+    try {
+        encoder_->file.reset();  // writes the table of row-band offsets
+        FileStream& stream = encoder_->stream;
+        for (const auto& [name, value] : lateValues) {
+            const auto reserved = std::find_if(late_.begin(), late_.end(), [&](const auto& l) { return l.first == name; });
+            if (reserved == late_.end() || value.size() > reserved->second)
+                throw std::logic_error("ExrRowWriter::finish: no room was reserved for \"" + name + "\" = \"" + value + "\"");
+            // An attribute is its name, its type, a 4-byte size, then the
+            // value; names are unique and the header comes first in the file.
+            const std::string key = name + '\0' + "string" + '\0';
+            const size_t at = stream.head().find(key);
+            if (at == std::string::npos) throw std::logic_error("ExrRowWriter::finish: \"" + name + "\" is not in the header");
+            stream.seekp(at + key.size() + 4);
+            stream.write(value.data(), int(value.size()));
+        }
+        stream.close();
+    } catch (const std::logic_error&) {
+        throw;
+    } catch (const std::exception& e) {
+        throw std::runtime_error(std::string("cannot write image: ") + e.what());
     }
-    return bytes;
 }
 
 ImageFile readExr(const std::string& path, bool withPixels) {

@@ -32,31 +32,33 @@ struct ChannelPlane {
 
 /// An EXR made band by band while its rows are still being made. A render
 /// hands over each band of rows as its last tile finishes, and the band is
-/// compressed on that thread while the others render on: compression no
-/// longer waits for the last pixel (on the 640x480 CSG Whitted frame the
-/// whole process took a tenth less). The file is assembled in memory and
-/// returned whole by finish(), for the caller to put in place: nothing is
-/// on disk before the image is complete. Attributes known only at the end
-/// (a render's time) get a reserved width and are filled in by finish().
-/// Not thread-safe: callers hand over bands one at a time, in order.
+/// compressed and written on that thread while the others render on:
+/// compression no longer waits for the last pixel. Attributes known only at
+/// the end (a render's time) get a reserved width and are filled in by
+/// finish(). The file is incomplete until then: write it under a temporary
+/// name. Not thread-safe: callers hand over bands one at a time, in order.
 class ExrRowWriter {
 public:
-    /// `layout` gives the window, frame, channel names and string attributes
-    /// (its pixels are not used); `lateStrings` names further string
-    /// attributes with the width reserved for each value. Throws
-    /// std::runtime_error with OpenEXR's message.
-    ExrRowWriter(const ImageFile& layout, SampleFormat format, std::vector<std::pair<std::string, size_t>> lateStrings);
+    /// Creates `path`. `layout` gives the window, frame, channel names and
+    /// string attributes (its pixels are not used); `lateStrings` names
+    /// further string attributes with the width reserved for each value.
+    /// Throws std::runtime_error naming the path.
+    ExrRowWriter(const std::string& path, const ImageFile& layout, SampleFormat format,
+                 std::vector<std::pair<std::string, size_t>> lateStrings);
     ~ExrRowWriter();
-    /// Compresses window rows [rowsWritten(), end) from `planes`, one per
-    /// channel of the layout in its order. Those rows must be final.
+    /// Compresses and writes window rows [rowsWritten(), end) from `planes`,
+    /// one per channel of the layout in its order. Those rows must be final.
     void writeRows(const std::vector<ChannelPlane>& planes, int end);
     int rowsWritten() const { return rowsWritten_; }
-    /// The file's bytes, once every row is written, with the late values
-    /// (each at most its reserved width; shorter ones keep trailing spaces).
-    std::string finish(const std::vector<std::pair<std::string, std::string>>& lateValues);
+    /// Completes and closes the file once every row is written, with the
+    /// late values (each at most its reserved width; shorter ones keep
+    /// trailing spaces). Throws std::logic_error on misuse,
+    /// std::runtime_error when the file cannot be written.
+    void finish(const std::vector<std::pair<std::string, std::string>>& lateValues);
 
 private:
-    struct Encoder;  // OpenEXR's file over an in-memory stream
+    class FileStream;  // the file, keeping its header's bytes
+    struct Encoder;    // OpenEXR's file over that stream
     ImageFile layout_;
     SampleFormat format_;
     std::vector<std::pair<std::string, size_t>> late_;

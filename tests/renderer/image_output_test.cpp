@@ -153,7 +153,7 @@ TEST(ImageOutput, StreamedExrMatchesTheWholeWrite) {
         writeImage(whole, image, metadata, half);
         RenderExrWriter writer(streamed, metadata, half, {{"isotrace:render_seconds", 16}});
         for (const int end : {1, 16, 17, 40, 52}) writer.rowsFinished(image, end);
-        EXPECT_FALSE(std::filesystem::exists(streamed)) << "nothing on disk before finish";
+        EXPECT_FALSE(std::filesystem::exists(streamed)) << "only a temporary file before finish";
         writer.finish(image, {{"isotrace:render_seconds", "12.5"}});  // the last row is handed over by finish
         ImageMetadata readWhole, readStreamed;
         const Image a = readImage(whole, &readWhole), b = readImage(streamed, &readStreamed);
@@ -176,16 +176,30 @@ TEST(ImageOutput, StreamedExrMatchesTheWholeWrite) {
     }
 }
 
+// A render that fails after some bands were written (the writer is
+// destroyed unfinished) leaves neither the file nor its temporary.
+TEST(ImageOutput, AnUnfinishedStreamedExrLeavesNothing) {
+    TemporaryFolder folder;
+    const Image image = noise(20, 40);
+    {
+        RenderExrWriter writer(folder.file("failed.exr"), {}, false);
+        writer.rowsFinished(image, 16);
+        EXPECT_EQ(filesIn(folder.path()), 1u) << "the temporary file";
+    }
+    EXPECT_EQ(filesIn(folder.path()), 0u);
+}
+
 // Bands out of order, a file finished with rows missing, and a late value
 // wider than its room are refused.
 TEST(ImageOutput, StreamedExrRefusesMisuse) {
+    TemporaryFolder folder;
     ImageFile layout;
     layout.width = 4;
     layout.height = 20;
     layout.channelNames = {"R", "G", "B"};
     const std::vector<float> rgb(4 * 20 * 3, 0.25f);
     const std::vector<ChannelPlane> planes = {{rgb.data(), 3}, {rgb.data() + 1, 3}, {rgb.data() + 2, 3}};
-    ExrRowWriter writer(layout, SampleFormat::Float, {{"late", 4}});
+    ExrRowWriter writer(folder.file("misused.exr"), layout, SampleFormat::Float, {{"late", 4}});
     writer.writeRows(planes, 10);
     EXPECT_THROW(writer.writeRows(planes, 5), std::invalid_argument);
     EXPECT_THROW(writer.writeRows(planes, 21), std::invalid_argument);
