@@ -38,7 +38,8 @@ class Light {
 public:
     virtual ~Light() = default;
 
-    /// Point and directional lights: found only by sampling them.
+    /// Point and directional lights: found only by sampling them. Their
+    /// sample() does not depend on u, so callers may skip drawing it.
     virtual bool isDelta() const { return false; }
     /// Lights at infinity, seen by rays that leave the scene.
     virtual bool isInfinite() const { return false; }
