@@ -44,11 +44,14 @@ double inverseErf(double y) {
 // turns too fast for a cubic, and are solved exactly (1.6% of samples).
 // Elsewhere the CDF of the offset is within 2e-8 of u (measured for sigma
 // from 0.3 to 2 pixels), far below what any number of samples can resolve.
-// Each thread keeps the table of the filter it last sampled.
 class TruncatedGaussianSampler {
 public:
-    double operator()(double u, double sigma, double radius) {
+    /// Tabulates the inverse for this filter unless it is the one in hand.
+    void prepare(double sigma, double radius) {
         if (sigma != sigma_ || radius != radius_) build(sigma, radius);
+    }
+
+    double operator()(double u) const {
         const double position = std::clamp(u, 0.0, 1.0) * kIntervals;
         const int i = std::min(int(position), kIntervals - 1);
         double z;
@@ -56,11 +59,11 @@ public:
             z = inverseErf((2.0 * u - 1.0) * total_);
         } else {
             const double t = position - i, s = 1.0 - t;
+            const Knot &a = knots_[i], &b = knots_[i + 1];
             // Hermite basis on [0, 1]; slopes are per interval of u.
-            z = s * s * (1.0 + 2.0 * t) * value_[i] + t * t * (3.0 - 2.0 * t) * value_[i + 1] +
-                t * s * (s * slope_[i] - t * slope_[i + 1]);
+            z = s * s * (1.0 + 2.0 * t) * a.value + t * t * (3.0 - 2.0 * t) * b.value + t * s * (s * a.slope - t * b.slope);
         }
-        return std::clamp(scale_ * z, -radius, radius);
+        return std::clamp(scale_ * z, -radius_, radius_);
     }
 
 private:
@@ -72,25 +75,28 @@ private:
         scale_ = sigma * std::sqrt(2.0);
         total_ = std::erf(radius / scale_);
         for (int i = 0; i <= kIntervals; ++i) {
-            value_[i] = inverseErf((2.0 * i / kIntervals - 1.0) * total_);
-            slope_[i] = total_ * std::sqrt(std::numbers::pi) * std::exp(value_[i] * value_[i]) / kIntervals;
+            const double value = inverseErf((2.0 * i / kIntervals - 1.0) * total_);
+            knots_[i] = {value, total_ * std::sqrt(std::numbers::pi) * std::exp(value * value) / kIntervals};
         }
     }
 
+    // Value and slope side by side: an interval's two knots are 32
+    // neighbouring bytes.
+    struct Knot {
+        double value, slope;
+    };
     double sigma_ = -1.0, radius_ = -1.0, scale_ = 1.0, total_ = 1.0;
-    std::array<double, kIntervals + 1> value_{}, slope_{};
+    std::array<Knot, kIntervals + 1> knots_{};
 };
-
-double sampleTruncatedGaussian(double u, double sigma, double radius) {
-    thread_local TruncatedGaussianSampler sampler;
-    return sampler(u, sigma, radius);
-}
 
 }  // namespace
 
 Eigen::Vector2d PixelFilter::sampleOffset(const Eigen::Vector2d& u) const {
     if (type == FilterType::Box) return {(2.0 * u.x() - 1.0) * radius, (2.0 * u.y() - 1.0) * radius};
-    return {sampleTruncatedGaussian(u.x(), sigma, radius), sampleTruncatedGaussian(u.y(), sigma, radius)};
+    // Each thread keeps the table of the filter it last sampled.
+    thread_local TruncatedGaussianSampler gaussian;
+    gaussian.prepare(sigma, radius);
+    return {gaussian(u.x()), gaussian(u.y())};
 }
 
 }  // namespace isotrace
