@@ -27,7 +27,7 @@ struct RenderOptions {
     /// Called with `end` whenever window rows [previous end, end) are final,
     /// in increasing order, never two calls at once, on the render thread
     /// that finished them: an EXR writer compresses them there while the
-    /// other threads render on. Bands are 16 rows (a row of tiles); the
+    /// other threads render on. Bands are whole rows of 16-pixel tiles; the
     /// last call has end == image.height. An exception thrown here stops
     /// the render and is rethrown by render().
     std::function<void(const Image& image, int end)> rowsFinished;

@@ -74,9 +74,10 @@ std::string describeCamera(const CameraSettings& c) {
 }
 
 
-// The image (an EXR's last rows and its assembly, or a whole file of another
-// format) and its preview are written at once, each mostly on one thread. A
-// failed image takes its preview with it, so no half-finished pair is left.
+// The image (an EXR's last band, late header value and rename, or a whole
+// file of another format) and its preview are written at once, each mostly
+// on one thread. A failed image takes its preview with it, so no
+// half-finished pair is left.
 void writeImageAndPreview(tbb::task_arena& arena, const RenderCommand& cmd, const std::string& output,
                           const std::function<void()>& writeOutput, const Image& image) {
     std::exception_ptr imageError, previewError;
@@ -146,17 +147,22 @@ int runRender(const RenderCommand& cmd) {
     const char* const kRenderSeconds = "isotrace:render_seconds";
     std::unique_ptr<RenderExrWriter> exr;
     if (geometry::lowercaseExtension(output) == ".exr") {
-        exr = std::make_unique<RenderExrWriter>(output, meta, cmd.half, std::vector<std::pair<std::string, size_t>>{{kRenderSeconds, 16}});
+        const std::vector<std::pair<std::string, size_t>> late = {{kRenderSeconds, 16}};
+        exr = std::make_unique<RenderExrWriter>(output, meta, cmd.half, late);
         options.rowsFinished = [&](const Image& image, int end) { exr->rowsFinished(image, end); };
     }
     RenderStatistics stats;
     const Image image = render(*scene, options, &stats);
     const std::string seconds = std::to_string(stats.seconds);
-    writeImageAndPreview(arena, cmd, output, [&] {
-        if (exr) return exr->finish(image, {{kRenderSeconds, seconds}});
-        meta.strings.emplace_back(kRenderSeconds, seconds);
-        writeImage(output, image, meta, cmd.half);
-    }, image);
+    auto writeOutput = [&] {
+        if (exr) {
+            exr->finish(image, {{kRenderSeconds, seconds}});
+        } else {
+            meta.strings.emplace_back(kRenderSeconds, seconds);
+            writeImage(output, image, meta, cmd.half);
+        }
+    };
+    writeImageAndPreview(arena, cmd, output, writeOutput, image);
     if (stats.nonFiniteSamples > 0)
         std::fprintf(stderr, "warning: %lld samples had non-finite radiance and were discarded\n", stats.nonFiniteSamples);
     if (!cmd.quiet)
