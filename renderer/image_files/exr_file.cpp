@@ -83,6 +83,27 @@ Imf::Header headerFor(const ImageFile& image, SampleFormat format) {
     return header;
 }
 
+// Where the value of string attribute `name` starts in a file's first bytes,
+// or npos. The header follows the 4-byte magic number and 4-byte version:
+// attributes are a name, a type (both NUL-terminated), a 4-byte
+// little-endian size and the value; an empty name ends them.
+size_t stringValueOffset(const std::string& head, const std::string& name) {
+    size_t at = 8;
+    while (at < head.size()) {
+        const size_t nameEnd = head.find('\0', at);
+        if (nameEnd == std::string::npos || nameEnd == at) return std::string::npos;
+        const size_t typeEnd = head.find('\0', nameEnd + 1);
+        if (typeEnd == std::string::npos || typeEnd + 5 > head.size()) return std::string::npos;
+        uint32_t size = 0;
+        for (int b = 3; b >= 0; --b) size = (size << 8) | uint8_t(head[typeEnd + 1 + size_t(b)]);
+        const size_t value = typeEnd + 5;
+        if (head.compare(at, nameEnd - at, name) == 0 && head.compare(nameEnd + 1, typeEnd - nameEnd - 1, "string") == 0)
+            return value;
+        at = value + size;
+    }
+    return std::string::npos;
+}
+
 }  // namespace
 
 void writeExr(const std::string& path, const ImageFile& image, SampleFormat format) {
@@ -219,12 +240,9 @@ void ExrRowWriter::finish(const std::vector<std::pair<std::string, std::string>>
             const auto reserved = std::find_if(late_.begin(), late_.end(), [&](const auto& l) { return l.first == name; });
             if (reserved == late_.end() || value.size() > reserved->second)
                 throw std::logic_error("ExrRowWriter::finish: no room was reserved for \"" + name + "\" = \"" + value + "\"");
-            // An attribute is its name, its type, a 4-byte size, then the
-            // value; names are unique and the header comes first in the file.
-            const std::string key = name + '\0' + "string" + '\0';
-            const size_t at = stream.head().find(key);
+            const size_t at = stringValueOffset(stream.head(), name);
             if (at == std::string::npos) throw std::logic_error("ExrRowWriter::finish: \"" + name + "\" is not in the header");
-            stream.seekp(at + key.size() + 4);
+            stream.seekp(at);
             stream.write(value.data(), int(value.size()));
         }
         stream.close();
