@@ -28,12 +28,19 @@ std::string temporaryPathFor(const std::string& path) {
 
 // The finished temporary file renamed to its place, or removed.
 void moveIntoPlace(const std::string& temporary, const std::string& path) {
-    std::error_code ec;
+    std::error_code ec, ignored;
     std::filesystem::rename(temporary, path, ec);
     if (ec) {
-        std::filesystem::remove(temporary, ec);
+        std::filesystem::remove(temporary, ignored);
         throw std::runtime_error(path + ": cannot move the finished image into place: " + ec.message());
     }
+}
+
+// Messages name the file the user asked for, not the temporary one.
+std::string namingTheOutput(std::string message, const std::string& temporary, const std::string& path) {
+    for (size_t at = message.find(temporary); at != std::string::npos; at = message.find(temporary, at + path.size()))
+        message.replace(at, temporary.size(), path);
+    return message;
 }
 
 // Files appear only when complete: `write` fills a temporary file in the
@@ -46,11 +53,7 @@ void writeAtomically(const std::string& path, const std::function<void(const std
         write(temporary);
     } catch (const std::exception& e) {
         std::filesystem::remove(temporary);
-        // Messages name the file the user asked for, not the temporary one.
-        std::string message = e.what();
-        for (size_t at = message.find(temporary); at != std::string::npos; at = message.find(temporary, at + path.size()))
-            message.replace(at, temporary.size(), path);
-        throw std::runtime_error(message);
+        throw std::runtime_error(namingTheOutput(e.what(), temporary, path));
     }
     moveIntoPlace(temporary, path);
 }
@@ -223,7 +226,7 @@ void RenderExrWriter::rowsFinished(const Image& image, int end) {
         }
         writer_->writeRows(planes_, end);
     } catch (const std::exception& e) {
-        throw std::runtime_error(namingTheOutput(e.what()));
+        throw std::runtime_error(errorNamingTheOutput(e.what()));
     }
 }
 
@@ -234,20 +237,17 @@ void RenderExrWriter::finish(const Image& image, const std::vector<std::pair<std
     } catch (const std::logic_error&) {
         throw;
     } catch (const std::exception& e) {
-        throw std::runtime_error(namingTheOutput(e.what()));
+        throw std::runtime_error(errorNamingTheOutput(e.what()));
     }
     writer_.reset();
     moveIntoPlace(temporary_, path_);
     guard_.reset();
 }
 
-// Messages name the file the user asked for, not the temporary one.
-std::string RenderExrWriter::namingTheOutput(const std::string& message) const {
-    std::string named = message;
-    for (size_t at = named.find(temporary_); at != std::string::npos; at = named.find(temporary_, at + path_.size()))
-        named.replace(at, temporary_.size(), path_);
-    if (named.find(path_) == std::string::npos) named = path_ + ": " + named;
-    return named;
+// The user's path in the message, in front when the writer did not name it.
+std::string RenderExrWriter::errorNamingTheOutput(const std::string& message) const {
+    const std::string named = namingTheOutput(message, temporary_, path_);
+    return named.find(path_) == std::string::npos ? path_ + ": " + named : named;
 }
 
 }  // namespace isotrace

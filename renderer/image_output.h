@@ -37,7 +37,7 @@ public:
     void finish(const Image& image, const std::vector<std::pair<std::string, std::string>>& lateValues = {});
 
 private:
-    std::string namingTheOutput(const std::string& message) const;
+    std::string errorNamingTheOutput(const std::string& message) const;
     std::string path_, temporary_;
     ImageMetadata metadata_;
     bool half_;

@@ -63,15 +63,18 @@ Imf::Slice sliceOf(const Sample* first, size_t stride, const Imath::Box2i& windo
     return Imf::Slice(std::is_same_v<Sample, half> ? Imf::HALF : Imf::FLOAT, base, dx, dy);
 }
 
+// The image's window in its frame, as inclusive corners.
+Imath::Box2i dataWindowOf(const ImageFile& image) {
+    return Imath::Box2i(Imath::V2i(image.x, image.y), Imath::V2i(image.x + image.width - 1, image.y + image.height - 1));
+}
+
 // The window inside its frame, ZIP compression, the string attributes and
 // every channel as float or half.
 Imf::Header headerFor(const ImageFile& image, SampleFormat format) {
     const int fullWidth = image.fullWidth > 0 ? image.fullWidth : image.width;
     const int fullHeight = image.fullHeight > 0 ? image.fullHeight : image.height;
     const Imath::Box2i display(Imath::V2i(0, 0), Imath::V2i(fullWidth - 1, fullHeight - 1));
-    const Imath::Box2i data(Imath::V2i(image.x, image.y),
-                            Imath::V2i(image.x + image.width - 1, image.y + image.height - 1));
-    Imf::Header header(display, data);
+    Imf::Header header(display, dataWindowOf(image));
     header.compression() = Imf::ZIP_COMPRESSION;
     // zlib's fastest level: on rendered float images it writes files 2%
     // larger than the default level 4 in two thirds of the time (640x480
@@ -207,8 +210,7 @@ void ExrRowWriter::writeRows(const std::vector<ChannelPlane>& planes, int end) {
         throw std::invalid_argument("ExrRowWriter: one plane per channel is needed");
     if (end < rowsWritten_ || end > layout_.height) throw std::invalid_argument("ExrRowWriter: rows out of order");
     if (end == rowsWritten_) return;
-    const Imath::Box2i data(Imath::V2i(layout_.x, layout_.y),
-                            Imath::V2i(layout_.x + layout_.width - 1, layout_.y + layout_.height - 1));
+    const Imath::Box2i data = dataWindowOf(layout_);
     const size_t channels = planes.size(), width = size_t(layout_.width);
     Imf::FrameBuffer frame;
     for (size_t c = 0; c < channels; ++c) {
