@@ -59,7 +59,6 @@ struct PartModel {
 // plane at the centre and band its error plus the reach of its curvature, a
 // slab a ray crosses in closed form, so rays that miss it read nothing here.
 struct MpuPart {
-    Box3 box;  ///< in the leaf's frame
     uint32_t first = 0, count = 0;
     uint32_t singles = 0;  ///< the list's single-piece locals, which come first
     PartModel model;
@@ -76,14 +75,15 @@ struct MpuPart {
 class MpuCellTracer final : public CellTracer {
 public:
     MpuCellTracer(std::shared_ptr<const MpuField> field, const LeafPlacement& placement, std::vector<MpuPart> parts,
-                  std::vector<uint32_t> locals)
-        : field_(std::move(field)), placement_(placement), parts_(std::move(parts)), locals_(std::move(locals)) {}
+                  std::vector<Box3> leafBoxes, std::vector<uint32_t> locals)
+        : field_(std::move(field)), placement_(placement), parts_(std::move(parts)),
+          leafBoxes_(placement.identity ? std::vector<Box3>() : std::move(leafBoxes)), locals_(std::move(locals)) {}
 
     CellTraceResult trace(uint32_t index, const PartBand& band, const Vec3& origin, const Vec3& direction, double t0,
                           double t1, const TraceSettings& settings) const override {
         Vec3 o, d;
         rayInLeafFrame(placement_, origin, direction, o, d);
-        if (!placement_.identity && !clipRayToBox(parts_[index].box, o, d, t0, t1)) return {};
+        if (!placement_.identity && !clipRayToBox(leafBoxes_[index], o, d, t0, t1)) return {};
         // Where the ray is within the band of the plane: |alpha + beta t| <= band.
         double enter, leave;
         if (!band.span(o, d, enter, leave)) return {};
@@ -368,6 +368,9 @@ private:
     std::shared_ptr<const MpuField> field_;
     LeafPlacement placement_;
     std::vector<MpuPart> parts_;
+    /// Each part's box in the leaf's frame, where that is not the world's
+    /// (the world box, which the caller clips to, serves otherwise).
+    std::vector<Box3> leafBoxes_;
     std::vector<uint32_t> locals_;
 };
 
@@ -389,6 +392,7 @@ std::optional<CellAcceleration> MpuCellAccelerator::accelerate(const FieldProgra
     if (!field.bounds().contains(leafBox)) return std::nullopt;
 
     std::vector<MpuPart> parts;
+    std::vector<Box3> boxes;      // parallel to parts, in the leaf's frame
     std::vector<PartBand> bands;  // parallel to parts
     std::vector<uint32_t> locals, touching;
     // A part over `b` whose locals are locals[first, first + count) (its
@@ -447,13 +451,14 @@ std::optional<CellAcceleration> MpuCellAccelerator::accelerate(const FieldProgra
         // model's range may hold zero: rays that pass its corners never
         // call the tracer.
         const MpuNumeratorModel& m = *model;
-        part.box = shrunkToSurface(b, [&m](const Box3& sub) {
+        const Box3 partBox = shrunkToSurface(b, [&m](const Box3& sub) {
             Vec3 slope;
             const double value = m.at(sub.center(), &slope);
             const Interval t = quadraticRange(value, slope, 0.5 * m.hessian, 0.5 * sub.extent());
             return Interval{t.lo - m.valueError, t.hi + m.valueError};
         });
-        if (part.box.isEmpty()) return;
+        if (partBox.isEmpty()) return;
+        boxes.push_back(partBox);
         bands.push_back({b.center(), m.gradient, m.value, bandOf(m)});
         part.model = PartModel(m);
         part.first = first;
@@ -480,11 +485,10 @@ std::optional<CellAcceleration> MpuCellAccelerator::accelerate(const FieldProgra
     carve(carve, leafBox, 0);
 
     CellAcceleration a;
-    std::vector<Box3> boxes;
-    for (const MpuPart& part : parts) boxes.push_back(part.box);
     a.parts = worldPartBoxes(placement, boxes, box);
     a.bands = std::move(bands);
-    a.tracer = std::make_unique<MpuCellTracer>(mpu->field, placement, std::move(parts), std::move(locals));
+    a.tracer = std::make_unique<MpuCellTracer>(mpu->field, placement, std::move(parts), std::move(boxes),
+                                               std::move(locals));
     return a;
 }
 
