@@ -14,7 +14,7 @@ constexpr const char* kFormatKey = kMpuFitFormatKey;
 constexpr int kFormatVersion = 1;
 // Part of the cache key: bump when the fit's result changes for the same
 // points and options, so stale cache entries are not reused.
-constexpr const char* kFitRevision = "mpu 3 sharp grid";
+constexpr const char* kFitRevision = "mpu 4 grown balls trimmed";
 
 constexpr std::array<std::pair<MpuCombination, const char*>, 6> kCombinationNames{{
     {MpuCombination::Single, "single"},

@@ -57,10 +57,11 @@ TEST(MpuField, PassesWithinTheAccuracyOfEveryPoint) {
         // a cell's ball to hold 15 of them; blending neighbours that each
         // meet it stays within a small multiple of it (the sphere: 0.05x).
         // oni.pwn has 1,435 points for a figure with thin horns and fingers:
-        // balls there must grow across features, and the worst point is 5-7x
-        // the accuracy (the fit's report says so).
+        // balls there must grow across features, and the worst point is 3.1x
+        // the accuracy. It was 5.6x while grown balls kept their support over
+        // points their functions miss by far.
         const bool sparse = std::string(file) == "oni.pwn";
-        const double allowed = sparse ? 10.0 : 3.0;
+        const double allowed = sparse ? 4.0 : 3.0;
         EXPECT_LT(worstDistance(f, points), allowed * options.accuracy * diagonal) << file;
         // The gradient follows the normals: never against one, and within
         // 26 degrees almost everywhere. On oni's thin parts the fit puts
