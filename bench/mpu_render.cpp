@@ -5,8 +5,9 @@
 // searched and local functions turned into polynomials per ray.
 //
 // The polygon model is made here: the kitten scan's MPU surface
-// polygonized at 160 cells (37,822 vertices, the size of the Stanford
-// bunny), written as PLY, fitted again from its vertices and normals.
+// polygonized at 160 cells (about 37,900 vertices, the size of the
+// Stanford bunny), written as PLY, fitted again from its vertices and
+// normals.
 //
 //   mpu_render [width [spp]]        (defaults: 320, 4; the issue's setting is 640 16)
 #include <algorithm>
@@ -81,21 +82,25 @@ int main(int argc, char** argv) {
     };
     // The polygon model: the kitten's MPU surface polygonized.
     const std::string model = bench::temporaryPath("mpu_render_kitten160.ply");
+    size_t modelVertices = 0;
     {
         const geometry::FieldProgram kitten =
             geometry::FieldLibrary(geometry::Json::object(), "/fields", scenes + "/bench.json")
                 .compileDescription(geometry::Json::parse(R"({"type": "mpu", "points": "scans/kitten.xyz"})"), "");
         geometry::PolygonizeOptions options;
         options.resolution = 160;
-        writeMesh(model, geometry::polygonize(kitten, options).mesh);
+        const geometry::IndexedMesh mesh = geometry::polygonize(kitten, options).mesh;
+        modelVertices = mesh.vertices.size();
+        writeMesh(model, mesh);
     }
+    const std::string modelName =
+        "kitten polygonized at 160 (" + std::to_string(modelVertices) + " vertices), fitted from its mesh";
     const std::string modelField = R"({"type": "mpu", "mesh": ")" + model + R"("})";
     const std::string modelObject = R"({"mesh": ")" + model + R"(", "smooth": true, "material": "clay"})";
     const std::string camera = R"({"from": [0.05, 0.25, 1.1], "to": [0, 0, 0], "fov": 35})";
     const Case cases[] = {
         {"kitten.xyz (5,210 points)", R"({"type": "mpu", "points": "scans/kitten.xyz"})", camera.c_str(), nullptr},
-        {"kitten polygonized at 160 (37,822 vertices), fitted from its mesh", modelField.c_str(), camera.c_str(),
-         modelObject.c_str()},
+        {modelName.c_str(), modelField.c_str(), camera.c_str(), modelObject.c_str()},
     };
     std::printf("MPU surfaces at %dx%d, %d spp, path (max depth 4), 2 threads\n", width, height, spp);
     for (const Case& c : cases) {
