@@ -104,13 +104,14 @@ namespace {
 constexpr size_t kMaxBallFitPoints = 4096;
 
 // A grown ball's support ends at the nearest point its function misses by
-// more than this many times the accuracy. Worst point over the diagonal,
-// trimming at 1, 2, 4, 8 times the accuracy and not at all: the kitten scan's
-// untrimmed fit polygonized (37,822 vertices) 6.7e-4, 7.9e-4, 7.6e-4,
-// 8.5e-4, 3.4e-3; the kitten scan
-// 3.1e-3, 2.9e-3, 3.5e-3, 3.4e-3, 3.7e-3; oni.pwn (accuracy 1e-3) 9.1e-3,
-// 8.1e-3, 3.1e-3, 4.6e-3, 5.6e-3. Near thin parts of sparse data a local
-// that misses by a little is still the best there is.
+// more than this many times the accuracy. The worst point over the
+// diagonal, trimming at 1, 2, 4 and 8 times the accuracy, and not at all:
+//   kitten scan's untrimmed fit polygonized (37,822 vertices):
+//     6.7e-4, 7.9e-4, 7.6e-4, 8.5e-4, 3.4e-3;
+//   kitten scan: 3.1e-3, 2.9e-3, 3.5e-3, 3.4e-3, 3.7e-3;
+//   oni.pwn (accuracy 1e-3): 9.1e-3, 8.1e-3, 3.1e-3, 4.6e-3, 5.6e-3.
+// Near thin parts of sparse data a local that misses by a little is still
+// the best there is.
 constexpr double kGrownBallMiss = 4.0;
 
 // Normals closer than this (cosine of about 26 degrees, the paper's

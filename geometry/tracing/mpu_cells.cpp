@@ -51,13 +51,15 @@ struct PartModel {
     }
 };
 
-// A part: its box (in the leaf's frame, shrunk to where its model may hold
-// zero), its locals, and the rest of its model of N, fitted over the box it
-// was carved as (about that box's centre). The model's value and gradient
-// at the centre are the part's PartBand (kept by ImplicitSurface beside the
-// part's box): the surface lies where |L| <= band, L the model's tangent
-// plane at the centre and band its error plus the reach of its curvature, a
-// slab a ray crosses in closed form, so rays that miss it read nothing here.
+// A part: its locals and the rest of its model of N, fitted over the box it
+// was carved as (about that box's centre); its box, shrunk to where the
+// model may hold zero, is ImplicitSurface's (and the tracer's leafBoxes_
+// where the leaf's frame is not the world's). The model's value and
+// gradient at the centre are the part's PartBand (kept by ImplicitSurface
+// beside the part's box): the surface lies where |L| <= band, L the model's
+// tangent plane at the centre and band its error plus the reach of its
+// curvature, a slab a ray crosses in closed form, so rays that miss it read
+// nothing here.
 struct MpuPart {
     uint32_t first = 0, count = 0;
     uint32_t singles = 0;  ///< the list's single-piece locals, which come first
