@@ -100,6 +100,12 @@ double MpuField::gradientBound(const Local& l, const Box3& box) const {
 
 namespace {
 
+// |value| / |gradient|: a point's first-order distance to the zero set,
+// how fits are judged at their points.
+double firstOrderDistance(double value, const Vec3& gradient) {
+    return std::abs(value) / std::max(gradient.norm(), 1e-300);
+}
+
 // Balls holding more points fit their functions to an even subsample of this many.
 constexpr size_t kMaxBallFitPoints = 4096;
 
@@ -283,7 +289,7 @@ public:
         for (uint32_t i : which) {
             Vec3 g;
             const double q = value(points[i].position, g);
-            worst = std::max(worst, std::abs(q) / std::max(g.norm(), 1e-300));
+            worst = std::max(worst, firstOrderDistance(q, g));
         }
         return worst;
     }
@@ -458,7 +464,7 @@ MpuField MpuField::fit(const std::vector<MpuPoint>& points, const MpuOptions& op
             for (const uint32_t i : near) {
                 Vec3 g;
                 const double q = field.evaluate(local, points[i].position, &g);
-                if (std::abs(q) / std::max(g.norm(), 1e-300) > kGrownBallMiss * tolerance)
+                if (firstOrderDistance(q, g) > kGrownBallMiss * tolerance)
                     reach = std::min(reach, (points[i].position - cell.center).norm());
             }
             local.radius = std::max(baseRadius, reach);
@@ -471,7 +477,7 @@ MpuField MpuField::fit(const std::vector<MpuPoint>& points, const MpuOptions& op
     for (const MpuPoint& p : points) {
         Vec3 g;
         const double value = field.valueAndGradient(p.position, g);
-        r.maxError = std::max(r.maxError, std::abs(value) / std::max(g.norm(), 1e-300) / diagonal);
+        r.maxError = std::max(r.maxError, firstOrderDistance(value, g) / diagonal);
     }
     r.localFunctions = field.locals_.size();
     r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
