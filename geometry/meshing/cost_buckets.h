@@ -47,6 +47,18 @@ public:
         return true;
     }
 
+    /// Drops every item; the buckets keep their capacity.
+    void clear() {
+        for (; lowestWord_ < kWords; ++lowestWord_) {
+            for (uint64_t bits = nonEmpty_[lowestWord_]; bits != 0; bits &= bits - 1) {
+                const uint32_t b = lowestWord_ * 64 + uint32_t(std::countr_zero(bits));
+                buckets_[b].clear();
+                heads_[b] = 0;
+            }
+            nonEmpty_[lowestWord_] = 0;
+        }
+    }
+
 private:
     // Non-negative floats order as their bit patterns; +infinity is
     // 0x7f800000, the last bucket.

@@ -80,6 +80,14 @@ struct Worker {
     std::vector<Vec3> centroids;  ///< of each new face, those that moved farthest first
 };
 
+// A queue is given up after this many refused collapses in a row: costs
+// only rise as it drains, and on the sphere of bench/polygonize_throughput
+// (a curved surface refined to just within the tolerance, where most
+// collapses fail) a quarter of the first round went to candidates after
+// each block's last collapse. Of the 75,832 collapses made without a
+// limit, this one makes all but 18.
+constexpr size_t kMaxFailuresInARow = 1024;
+
 // Blocks hold about this many vertices (up to 4 x 4 x 4 of them): enough
 // work per block to hide scheduling, and walls thin against the block.
 constexpr double kVerticesPerBlock = 4096.0;
@@ -218,12 +226,19 @@ private:
         return seedsOf;
     }
 
+    // Pops until the queue is empty or kMaxFailuresInARow collapses in a
+    // row were refused; what is left is dropped (the worker's queue serves
+    // its next block).
     size_t drain(Worker& worker) {
-        size_t collapses = 0;
+        size_t collapses = 0, failures = 0;
         Candidate c;
         while (worker.queue.pop(c)) {
             if (removedVertex_[c.u] || removedVertex_[c.v] || stamp_[c.u] + stamp_[c.v] != c.stamps) continue;
             if (!ownsNeighbourhood(worker, c.u, c.v)) continue;
+            if (++failures > kMaxFailuresInARow) {
+                worker.queue.clear();
+                break;
+            }
             Vec3 position;
             if (!placement(c.u, c.v, position)) continue;
             const FirstFace first = firstFaceDistance(c.u, c.v, position);
@@ -231,6 +246,7 @@ private:
             if (!collapseIsValid(worker, c.u, c.v, position, first == FirstFace::Within ? 1 : 0)) continue;
             collapse(worker, c.u, c.v, position);
             ++collapses;
+            failures = 0;
         }
         return collapses;
     }
