@@ -8,7 +8,6 @@
 #include <vector>
 
 #include <tbb/parallel_for.h>
-#include <tbb/parallel_sort.h>
 
 #include "geometry/meshing/mesh_analysis.h"
 
@@ -91,34 +90,39 @@ private:
 
     // neighbours_[t][k]: the face across edge k of t (from vertex k to k + 1),
     // kNone on a boundary, kBlocked on a non-manifold or misoriented edge.
+    // Through the faces around each vertex (counted, then filled: no sort):
+    // an edge's other faces are among those around its first vertex.
     void findNeighbours() {
         const size_t n = mesh_.triangles.size();
-        neighbours_.assign(n, {kNone, kNone, kNone});
-        std::vector<std::pair<uint64_t, uint32_t>> halfEdges(3 * n);
+        std::vector<uint32_t> start(mesh_.vertices.size() + 1, 0);
+        for (const auto& t : mesh_.triangles)
+            for (uint32_t v : t) ++start[v + 1];
+        for (size_t v = 0; v + 1 < start.size(); ++v) start[v + 1] += start[v];
+        std::vector<uint32_t> around(start.back()), next(start.begin(), start.end() - 1);
+        for (uint32_t f = 0; f < n; ++f)
+            for (uint32_t v : mesh_.triangles[f]) around[next[v]++] = f;
+        neighbours_.resize(n);
         tbb::parallel_for(size_t(0), n, [&](size_t t) {
             const auto& v = mesh_.triangles[t];
-            for (int k = 0; k < 3; ++k) halfEdges[3 * t + k] = {undirected(v[k], v[(k + 1) % 3]), uint32_t(3 * t + k)};
-        });
-        tbb::parallel_sort(halfEdges.begin(), halfEdges.end());
-        for (size_t i = 0; i < halfEdges.size();) {
-            size_t j = i + 1;
-            while (j < halfEdges.size() && halfEdges[j].first == halfEdges[i].first) ++j;
-            // Two faces running opposite ways along the edge are neighbours;
-            // more, or two running the same way, block it.
-            const uint32_t a = halfEdges[i].second, b = j - i == 2 ? halfEdges[i + 1].second : 0;
-            if (j - i == 2 && from(a) == to(b)) {
-                neighbours_[a / 3][a % 3] = b / 3;
-                neighbours_[b / 3][b % 3] = a / 3;
-            } else if (j - i >= 2) {
-                for (size_t h = i; h < j; ++h) neighbours_[halfEdges[h].second / 3][halfEdges[h].second % 3] = kBlocked;
+            for (int k = 0; k < 3; ++k) {
+                const uint32_t a = v[k], b = v[(k + 1) % 3];
+                // The one other face running b to a is the neighbour; more
+                // faces on the edge, or one running a to b too, block it.
+                uint32_t neighbour = kNone;
+                int others = 0;
+                for (uint32_t i = start[a]; i < start[a + 1]; ++i) {
+                    const uint32_t f = around[i];
+                    if (f == t) continue;
+                    const auto& w = mesh_.triangles[f];
+                    for (int j = 0; j < 3; ++j) {
+                        if (w[j] == b && w[(j + 1) % 3] == a) ++others, neighbour = f;
+                        else if (w[j] == a && w[(j + 1) % 3] == b) others += 2;
+                    }
+                }
+                neighbours_[t][k] = others == 0 ? kNone : others == 1 ? neighbour : kBlocked;
             }
-            i = j;
-        }
+        });
     }
-
-    // The vertices a half-edge (3 face + k) runs from and to.
-    uint32_t from(uint32_t halfEdge) const { return mesh_.triangles[halfEdge / 3][halfEdge % 3]; }
-    uint32_t to(uint32_t halfEdge) const { return mesh_.triangles[halfEdge / 3][(halfEdge % 3 + 1) % 3]; }
 
     double distance(const Vec3& p, double* gradientNorm = nullptr) const {
         return surfaceDistance(field_, p, gradientNorm);
