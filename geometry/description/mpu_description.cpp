@@ -168,6 +168,7 @@ Json mpuFieldToJson(const MpuField& field, const MpuReport& report, const Json& 
               {"corners", report.corners},
               {"depth", report.depth},
               {"max_error", report.maxError},
+              {"mean_error", report.meanError},
               {"seconds", report.seconds}}},
             {"domain", Json::array({vec3Json(field.bounds().lower), vec3Json(field.bounds().upper)})},
             {"support", field.support()},

@@ -474,11 +474,15 @@ MpuField MpuField::fit(const std::vector<MpuPoint>& points, const MpuOptions& op
     field.finish();
 
     // The fit's error: the blended field's first-order distance at the input.
+    double errorSum = 0.0;
     for (const MpuPoint& p : points) {
         Vec3 g;
         const double value = field.valueAndGradient(p.position, g);
-        r.maxError = std::max(r.maxError, firstOrderDistance(value, g) / diagonal);
+        const double error = firstOrderDistance(value, g) / diagonal;
+        r.maxError = std::max(r.maxError, error);
+        errorSum += error;
     }
+    r.meanError = errorSum / double(points.size());
     r.localFunctions = field.locals_.size();
     r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (report) *report = r;

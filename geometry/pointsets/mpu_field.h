@@ -144,7 +144,8 @@ struct MpuReport {
     size_t generalQuadrics = 0;  ///< cells where normals disagree
     size_t edges = 0, corners = 0;  ///< sharp-feature functions of two and three pieces
     int depth = 0;
-    double maxError = 0.0;  ///< of the blended field at the input points, relative to their diagonal
+    double maxError = 0.0;   ///< of the blended field at the input points, relative to their diagonal
+    double meanError = 0.0;  ///< the mean of the same
     double seconds = 0.0;
 };
 

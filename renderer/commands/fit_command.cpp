@@ -79,9 +79,9 @@ int runMpuFit(const FitCommand& c, const Json& description, geometry::Variationa
     writeFit(c.output, geometry::mpuFieldToJson(field, report, provenance, source.hash).dump() + "\n");
     if (!c.quiet)
         std::fprintf(stderr, "fitted %zu oriented points with %zu local functions (%zu edges, %zu corners, depth %d) in %.3fs; "
-                             "worst point %.3g of the diagonal; wrote %s\n",
+                             "worst point %.3g, mean %.2g of the diagonal; wrote %s\n",
                      source.points.size(), report.localFunctions, report.edges, report.corners, report.depth,
-                     report.seconds, report.maxError, c.output.c_str());
+                     report.seconds, report.maxError, report.meanError, c.output.c_str());
     return kExitSuccess;
 }
 

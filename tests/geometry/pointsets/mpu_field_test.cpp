@@ -78,6 +78,33 @@ TEST(MpuField, PassesWithinTheAccuracyOfEveryPoint) {
     }
 }
 
+// The figure, every input point within 1e-3 of the diagonal, on
+// the sparse kitten scan (5,210 points, thin ears): balls that must grow to
+// 15 points there span more bend than a quadric follows, and at the default
+// min_points the worst point stays near 3e-3 whatever the accuracy asked
+// for. Balls of 6 points and an accuracy of 7e-4 bring every point within
+// 9.4e-4. The report's worst and mean are the fit's own.
+TEST(MpuField, SparseScanFitsEveryPointWithinAThousandthOfItsSize) {
+    std::vector<MpuPoint> points;
+    for (const OrientedPoint& p : readOrientedPoints(std::string(ISOTRACE_SOURCE_DIR) + "/scenes/scans/kitten.xyz"))
+        points.push_back({p.position, p.normal});
+    MpuOptions options;
+    options.accuracy = 7e-4;
+    options.minPoints = 6;
+    MpuReport report;
+    const MpuField f = MpuField::fit(points, options, &report);
+    const double diagonal = diagonalOf(points);
+    double sum = 0;
+    for (const MpuPoint& p : points) {
+        Vec3 g;
+        sum += std::abs(f.valueAndGradient(p.position, g)) / g.norm() / diagonal;
+    }
+    std::printf("kitten.xyz: worst point %.3g, mean %.2g of the diagonal\n", report.maxError, report.meanError);
+    EXPECT_LT(worstDistance(f, points), 1e-3 * diagonal);
+    EXPECT_NEAR(report.maxError, worstDistance(f, points) / diagonal, 1e-12);
+    EXPECT_NEAR(report.meanError, sum / double(points.size()), 1e-12);
+}
+
 // sphere926.pwn lies on a sphere: between the points too, the surface stays
 // on it, inside is negative and outside positive.
 TEST(MpuField, FollowsTheSphereItWasSampledFrom) {

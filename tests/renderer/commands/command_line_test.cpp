@@ -467,6 +467,8 @@ TEST(CommandLine, FitMpuWritesAFieldScenesLoad) {
     EXPECT_EQ(saved["source"]["accuracy"], 0.004);
     EXPECT_GT(saved["locals"].size(), 8u);
     EXPECT_LT(saved["fit"]["max_error"].get<double>(), 0.012);
+    EXPECT_GT(saved["fit"]["mean_error"].get<double>(), 0.0);
+    EXPECT_LT(saved["fit"]["mean_error"].get<double>(), saved["fit"]["max_error"].get<double>());
 
     std::string scene = kSmallScene;
     const std::string sphere = "{\"type\": \"sphere\", \"radius\": 1}";
