@@ -10,7 +10,6 @@
 #include <tbb/parallel_for.h>
 
 #include "geometry/meshing/mesh_analysis.h"
-#include "geometry/prefaulted_memory.h"
 
 namespace isotrace::geometry {
 
@@ -57,8 +56,8 @@ public:
             if (fails[t]) pending_.push_back(uint32_t(t));
         // Splits add their faces back to `pending_`, to be checked again.
         maxFaces_ = kMaxGrowth * std::max<size_t>(n, 1);
-        reserveFor(n);
         frozen_.assign(n, 0);
+        reserveFor(n);
         while (!pending_.empty() && mesh_.triangles.size() < maxFaces_) {
             const uint32_t t = pending_.back();
             pending_.pop_back();
@@ -81,12 +80,12 @@ private:
         const size_t failing = pending_.size();
         const size_t faces = std::min(maxFaces_, n + kLikelyFacesPerFailure * failing);
         const size_t vertices = mesh_.vertices.size() + faces - n;  // a split adds one vertex, two faces or one
-        reservePrefaulted(mesh_.triangles, faces);
-        reservePrefaulted(neighbours_, faces);
-        reservePrefaulted(frozen_, faces);
-        reservePrefaulted(mesh_.vertices, vertices);
-        if (!mesh_.normals.empty()) reservePrefaulted(mesh_.normals, vertices);
-        reservePrefaulted(pending_, 2 * (faces - n) + failing);  // a split queues its faces again
+        mesh_.triangles.reserve(faces);
+        neighbours_.reserve(faces);
+        frozen_.reserve(faces);
+        mesh_.vertices.reserve(vertices);
+        if (!mesh_.normals.empty()) mesh_.normals.reserve(vertices);
+        pending_.reserve(2 * (faces - n) + failing);  // a split queues its faces again
     }
 
     // neighbours_[t][k]: the face across edge k of t (from vertex k to k + 1),
@@ -95,17 +94,13 @@ private:
     // an edge's other faces are among those around its first vertex.
     void findNeighbours() {
         const size_t n = mesh_.triangles.size();
-        std::vector<uint32_t> start, around, next;
-        assignPrefaulted(start, mesh_.vertices.size() + 1, 0u);
+        std::vector<uint32_t> start(mesh_.vertices.size() + 1, 0);
         for (const auto& t : mesh_.triangles)
             for (uint32_t v : t) ++start[v + 1];
         for (size_t v = 0; v + 1 < start.size(); ++v) start[v + 1] += start[v];
-        assignPrefaulted(around, start.back(), 0u);
-        reservePrefaulted(next, start.size() - 1);
-        next.assign(start.begin(), start.end() - 1);
+        std::vector<uint32_t> around(start.back()), next(start.begin(), start.end() - 1);
         for (uint32_t f = 0; f < n; ++f)
             for (uint32_t v : mesh_.triangles[f]) around[next[v]++] = f;
-        reservePrefaulted(neighbours_, n);
         neighbours_.resize(n);
         tbb::parallel_for(size_t(0), n, [&](size_t t) {
             const auto& v = mesh_.triangles[t];

@@ -11,7 +11,6 @@
 #include "geometry/meshing/cost_buckets.h"
 #include "geometry/meshing/mesh_analysis.h"
 #include "geometry/meshing/vertex_fans.h"
-#include "geometry/prefaulted_memory.h"
 
 namespace isotrace::geometry {
 
@@ -100,13 +99,12 @@ public:
         : mesh_(mesh), field_(field), options_(options), facesOf_(mesh.vertices.size()) {
         const size_t n = mesh.vertices.size();
         quadric_.reset(new Quadric[n]);  // written by buildAdjacency
-        prefaultPages(quadric_.get(), n * sizeof(Quadric));
-        assignPrefaulted(stamp_, n, 0u);
-        assignPrefaulted(removedVertex_, n, uint8_t(0));
-        assignPrefaulted(deferred_, n, uint8_t(0));
-        assignPrefaulted(interior_, n, uint8_t(0));
-        assignPrefaulted(mark_, n, 0u);
-        assignPrefaulted(removedFace_, mesh.triangles.size(), uint8_t(0));
+        stamp_.assign(n, 0);
+        removedVertex_.assign(n, 0);
+        deferred_.assign(n, 0);
+        interior_.assign(n, 0);
+        mark_.assign(n, 0);
+        removedFace_.assign(mesh.triangles.size(), 0);
     }
 
     size_t run() {
@@ -169,17 +167,14 @@ private:
     // in parallel) and each vertex's quadric, the sum of its faces'.
     void buildAdjacency() {
         const size_t n = mesh_.vertices.size();
-        std::vector<uint32_t> start, faces, next;
-        assignPrefaulted(start, n + 1, 0u);
+        std::vector<uint32_t> start(n + 1, 0);
         for (const auto& t : mesh_.triangles)
             for (uint32_t v : t) ++start[v + 1];
         for (size_t v = 0; v < n; ++v) start[v + 1] += start[v];
-        assignPrefaulted(faces, start[n], 0u);
-        reservePrefaulted(next, n);
-        next.assign(start.begin(), start.end() - 1);
+        std::vector<uint32_t> faces(start[n]), next(start.begin(), start.end() - 1);
         for (uint32_t f = 0; f < mesh_.triangles.size(); ++f)
             for (uint32_t v : mesh_.triangles[f]) faces[next[v]++] = f;
-        assignPrefaulted(aspect_, mesh_.triangles.size(), 0.0);
+        aspect_.resize(mesh_.triangles.size());
         tbb::parallel_for(size_t(0), mesh_.triangles.size(), [&](size_t f) { aspect_[f] = computeAspectRatio(uint32_t(f)); });
         tbb::parallel_for(size_t(0), n, [&](size_t v) {
             facesOf_.assign(uint32_t(v), std::span(faces.data() + start[v], faces.data() + start[v + 1]));
@@ -210,7 +205,7 @@ private:
     std::vector<std::vector<uint32_t>> assignBlocks(const BlockGrid& grid, double shift, const std::vector<uint8_t>& seed) {
         const int cells = grid.perAxis + (shift > 0 ? 1 : 0);
         std::vector<std::vector<uint32_t>> seedsOf(size_t(cells) * cells * cells);
-        if (block_.empty()) assignPrefaulted(block_, mesh_.vertices.size(), 0u);
+        block_.resize(mesh_.vertices.size());
         tbb::parallel_for(size_t(0), mesh_.vertices.size(), [&](size_t v) {
             int cell[3];
             for (int k = 0; k < 3; ++k)
@@ -571,12 +566,11 @@ private:
     // Drops removed faces and vertices; normals from the field, in parallel
     // (called inside the task arena).
     void compact() {
-        std::vector<uint32_t> remap;
-        assignPrefaulted(remap, mesh_.vertices.size(), UINT32_MAX);
+        std::vector<uint32_t> remap(mesh_.vertices.size(), UINT32_MAX);
         IndexedMesh out;
         const size_t faces = size_t(std::count(removedFace_.begin(), removedFace_.end(), 0));
-        reservePrefaulted(out.triangles, faces);
-        reservePrefaulted(out.vertices, faces / 2 + 2);  // a closed mesh has about half as many vertices
+        out.triangles.reserve(faces);
+        out.vertices.reserve(faces / 2 + 2);  // a closed mesh has about half as many vertices
         for (uint32_t f = 0; f < mesh_.triangles.size(); ++f) {
             if (removedFace_[f]) continue;
             std::array<uint32_t, 3> t;
@@ -590,7 +584,7 @@ private:
             }
             out.triangles.push_back(t);
         }
-        assignPrefaulted(out.normals, out.vertices.size(), Vec3(Vec3::Zero()));
+        out.normals.resize(out.vertices.size());
         tbb::parallel_for(size_t(0), out.vertices.size(), [&](size_t v) {
             Vec3 g;
             field_.valueAndGradient(out.vertices[v], g);

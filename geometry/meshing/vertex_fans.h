@@ -15,20 +15,13 @@
 #include <span>
 #include <vector>
 
-#include "geometry/prefaulted_memory.h"
-
 namespace isotrace::geometry {
 
 class VertexFans {
 public:
     /// Every vertex's fan must be assigned before it is read: the records
-    /// start uninitialised (their pages populated), so that the caller
-    /// fills them in parallel.
-    explicit VertexFans(size_t vertices) : records_(new Record[vertices]) {
-        prefaultPages(records_.get(), vertices * sizeof(Record));
-        reservePrefaulted(large_, vertices);
-        large_.resize(vertices);
-    }
+    /// start uninitialised, so that the caller fills them in parallel.
+    explicit VertexFans(size_t vertices) : records_(new Record[vertices]), large_(vertices) {}
 
     std::span<const uint32_t> operator[](uint32_t v) const {
         const Record& r = records_[v];
