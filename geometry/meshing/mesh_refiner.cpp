@@ -37,6 +37,14 @@ constexpr size_t kLikelyFacesPerFailure = 4;
 inline uint64_t undirected(uint32_t a, uint32_t b) { return (uint64_t(std::min(a, b)) << 32) | std::max(a, b); }
 
 class Refiner {
+    // A point with the field's value and gradient there: a split point is
+    // judged, and its vertex's normal taken, from the evaluation that found it.
+    struct SurfaceSample {
+        Vec3 position = Vec3::Zero();
+        double value = 0.0;
+        Vec3 gradient = Vec3::Zero();
+    };
+
 public:
     Refiner(IndexedMesh& mesh, const FieldProgram& field, const RefineOptions& options)
         : mesh_(mesh), field_(field), options_(options) {
@@ -204,7 +212,7 @@ private:
             const uint32_t u = neighbours_[s][k];
             if (u == kBlocked) return;  // t stays as it is
             if (u == kNone || neighbours_[u][longest(u)] == s) {
-                Vec3 p;
+                SurfaceSample p;
                 if (!splitPoint(s, k, u, p)) {
                     frozen_[s] = 1;
                     if (u != kNone) frozen_[u] = 1;
@@ -225,27 +233,35 @@ private:
     // Newton may slide sideways), the surface's crossing of the line through
     // the midpoint along the faces' normal; or the midpoint itself, if
     // within the tolerance. False when none does.
-    bool splitPoint(uint32_t t, int k, uint32_t u, Vec3& p) const {
+    bool splitPoint(uint32_t t, int k, uint32_t u, SurfaceSample& p) const {
         const auto& v = mesh_.triangles[t];
         const Vec3 &a = mesh_.vertices[v[k]], &b = mesh_.vertices[v[(k + 1) % 3]];
         const double length = (a - b).norm();
         const Vec3 midpoint = 0.5 * (a + b);
         if (nearestByNewton(midpoint, length, p) && acceptable(t, k, u, keptInBox(p, u))) return true;
-        Vec3 normal = faceNormal(t);
+        Vec3 normal = faceNormal(t), crossing;
         if (u != kNone) normal += faceNormal(u);
-        if (normal.norm() > 0 && crossingAlong(midpoint, normal.normalized(), length, p) &&
-            acceptable(t, k, u, keptInBox(p, u)))
+        if (normal.norm() > 0 && crossingAlong(midpoint, normal.normalized(), length, crossing) &&
+            acceptable(t, k, u, keptInBox(p = sampleAt(crossing), u)))
             return true;
-        p = midpoint;
+        p = sampleAt(midpoint);
         return acceptable(t, k, u, p);
+    }
+
+    SurfaceSample sampleAt(const Vec3& p) const {
+        SurfaceSample s{p};
+        s.value = field_.valueAndGradient(p, s.gradient);
+        return s;
     }
 
     // An open surface ends where marching cubes' grid does, on the input's
     // bounding box: a point splitting an edge of the opening (no face u
     // beyond it) is kept on that box.
-    const Vec3& keptInBox(Vec3& p, uint32_t u) const {
-        if (u == kNone) p = p.cwiseMax(inputBox_.lower).cwiseMin(inputBox_.upper);
-        return p;
+    const SurfaceSample& keptInBox(SurfaceSample& s, uint32_t u) const {
+        if (u != kNone) return s;
+        const Vec3 inside = s.position.cwiseMax(inputBox_.lower).cwiseMin(inputBox_.upper);
+        if (inside != s.position) s = sampleAt(inside);
+        return s;
     }
 
     Vec3 faceNormal(uint32_t t) const {
@@ -257,7 +273,7 @@ private:
 
     // Newton steps along the gradient from `start`, each at most half the
     // edge's length; the best point, if within the tolerance.
-    bool nearestByNewton(const Vec3& start, double length, Vec3& best) const {
+    bool nearestByNewton(const Vec3& start, double length, SurfaceSample& best) const {
         Vec3 p = start;
         double bestDistance = std::numeric_limits<double>::infinity();
         for (int i = 0; i < 8; ++i) {
@@ -268,7 +284,7 @@ private:
             const double d = std::abs(f) / std::sqrt(g2);
             if (d < bestDistance) {
                 bestDistance = d;
-                best = p;
+                best = {p, f, g};
             }
             if (d <= 1e-3 * options_.maxDistance) break;
             Vec3 step = (f / g2) * g;
@@ -309,13 +325,14 @@ private:
     // most 0.87 of it; at a crease the point moves off the chord); and no
     // new face may fold over or be degenerate. So each split edge shrinks,
     // no edge grows past the input's, and no face collapses.
-    bool acceptable(uint32_t t, int k, uint32_t u, const Vec3& p) const {
+    bool acceptable(uint32_t t, int k, uint32_t u, const SurfaceSample& sample) const {
         const auto& v = mesh_.triangles[t];
         const Vec3 &a = mesh_.vertices[v[k]], &b = mesh_.vertices[v[(k + 1) % 3]],
                    &c = mesh_.vertices[v[(k + 2) % 3]];
         const double length = (a - b).norm();
-        Vec3 outward;  // the gradient at p, for the orientation test below
-        const double f = field_.valueAndGradient(p, outward), g = outward.norm();
+        const Vec3& p = sample.position;
+        const Vec3& outward = sample.gradient;  // for the orientation test below
+        const double f = sample.value, g = outward.norm();
         if (!((g > 0 ? std::abs(f) / g : std::abs(f)) <= options_.maxDistance)) return false;
         if ((p - a).norm() > kMaxHalf * length || (p - b).norm() > kMaxHalf * length) return false;
         const double reach = std::min(kMaxOpposite * length, longestInput_);
@@ -348,14 +365,11 @@ private:
         return halvesKept(b, a, mesh_.vertices[w[(j + 2) % 3]]);
     }
 
-    uint32_t addVertex(const Vec3& p) {
+    uint32_t addVertex(const SurfaceSample& p) {
         const uint32_t m = uint32_t(mesh_.vertices.size());
-        mesh_.vertices.push_back(p);
-        if (!mesh_.normals.empty()) {
-            Vec3 g;
-            field_.valueAndGradient(p, g);
-            mesh_.normals.push_back(g.norm() > 0 ? Vec3(g.normalized()) : Vec3(0, 1, 0));
-        }
+        mesh_.vertices.push_back(p.position);
+        if (!mesh_.normals.empty())
+            mesh_.normals.push_back(p.gradient.norm() > 0 ? Vec3(p.gradient.normalized()) : Vec3(0, 1, 0));
         return m;
     }
 
@@ -377,7 +391,7 @@ private:
     // Splits edge k of t, (a, b), at a new vertex m at p: t = (a, b, c) becomes
     // (a, m, c) and (m, b, c); the face beyond, u = (b, a, d), becomes
     // (b, m, d) and (m, a, d). Orientation is kept.
-    void split(uint32_t t, int k, const Vec3& p) {
+    void split(uint32_t t, int k, const SurfaceSample& p) {
         const auto tv = mesh_.triangles[t];
         const auto tn = neighbours_[t];
         const uint32_t a = tv[k], b = tv[(k + 1) % 3], c = tv[(k + 2) % 3];
