@@ -163,21 +163,18 @@ public:
     }
 
 private:
-    // The faces around each vertex (sorted by a counting pass, then copied
-    // in parallel) and each vertex's quadric, the sum of its faces'.
+    // The faces around each vertex, in the order of the faces (one pass over
+    // them, appending to each vertex's record: no counting pass, no
+    // temporary lists), then each vertex's quadric, the sum of its faces',
+    // in parallel.
     void buildAdjacency() {
         const size_t n = mesh_.vertices.size();
-        std::vector<uint32_t> start(n + 1, 0);
-        for (const auto& t : mesh_.triangles)
-            for (uint32_t v : t) ++start[v + 1];
-        for (size_t v = 0; v < n; ++v) start[v + 1] += start[v];
-        std::vector<uint32_t> faces(start[n]), next(start.begin(), start.end() - 1);
+        tbb::parallel_for(size_t(0), n, [&](size_t v) { facesOf_.clear(uint32_t(v)); });
         for (uint32_t f = 0; f < mesh_.triangles.size(); ++f)
-            for (uint32_t v : mesh_.triangles[f]) faces[next[v]++] = f;
+            for (uint32_t v : mesh_.triangles[f]) facesOf_.pushBack(v, f);
         aspect_.resize(mesh_.triangles.size());
         tbb::parallel_for(size_t(0), mesh_.triangles.size(), [&](size_t f) { aspect_[f] = computeAspectRatio(uint32_t(f)); });
         tbb::parallel_for(size_t(0), n, [&](size_t v) {
-            facesOf_.assign(uint32_t(v), std::span(faces.data() + start[v], faces.data() + start[v + 1]));
             Quadric q{};
             for (uint32_t f : facesOf_[v]) q += faceQuadric(f);
             quadric_[v] = q;
