@@ -80,7 +80,8 @@ MpuField fitMpuSource(const MpuSource& source, const JsonObjectReader& r, MpuRep
     }
     if (warn && report.maxError > 3 * source.options.accuracy)
         warn("the fit misses some points by " + std::to_string(report.maxError) + " of the points' size (accuracy " +
-             std::to_string(source.options.accuracy) + "): too few points where the surface bends or folds");
+             std::to_string(source.options.accuracy) + "): too few points where the surface bends or folds" +
+             (source.options.minPoints > 6 ? " (a smaller min_points, down to 6, lets cells there divide further)" : ""));
     return field;
 }
 
