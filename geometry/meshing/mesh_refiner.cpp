@@ -82,8 +82,8 @@ public:
 private:
     // Room for the faces the failing ones will likely become (each about
     // four), so that the arrays grow without copying: on the sphere of
-    // bench/polygonize_throughput, reallocations and their first touches of
-    // new pages took a fifth of refinement.
+    // bench/polygonize_throughput, refinement took 0.124 s growing them by
+    // doubling and 0.114 s with room made first.
     void reserveFor(size_t n) {
         const size_t failing = pending_.size();
         const size_t faces = std::min(maxFaces_, n + kLikelyFacesPerFailure * failing);
