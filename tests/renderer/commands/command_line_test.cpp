@@ -161,6 +161,13 @@ TEST(CommandLine, PolygonizeWritesTheMeshAndAReport) {
     const auto a = nlohmann::json::parse(adaptive.output);
     EXPECT_LE(a["max_centroid_distance"].get<double>(), 0.01);
     EXPECT_EQ(a["manifold"], true);
+    // The stages' times: each taken, together within the whole.
+    const double stages = a["extraction_seconds"].get<double>() + a["refinement_seconds"].get<double>() +
+                          a["simplification_seconds"].get<double>();
+    for (const char* stage : {"extraction_seconds", "refinement_seconds", "simplification_seconds"})
+        EXPECT_GT(a[stage].get<double>(), 0.0) << stage;
+    EXPECT_LE(stages, a["seconds"].get<double>());
+    EXPECT_EQ(report["refinement_seconds"].get<double>(), 0.0);  // marching cubes refines nothing
 }
 
 TEST(CommandLine, PolygonizeBadInput) {
