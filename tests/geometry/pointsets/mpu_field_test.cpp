@@ -18,11 +18,13 @@ using isotrace::testing::testDataFile;
 
 namespace {
 
-std::vector<MpuPoint> load(const std::string& file) {
+std::vector<MpuPoint> loadPath(const std::string& path) {
     std::vector<MpuPoint> points;
-    for (const OrientedPoint& p : readOrientedPoints(testDataFile(file))) points.push_back({p.position, p.normal});
+    for (const OrientedPoint& p : readOrientedPoints(path)) points.push_back({p.position, p.normal});
     return points;
 }
+
+std::vector<MpuPoint> load(const std::string& file) { return loadPath(testDataFile(file)); }
 
 double diagonalOf(const std::vector<MpuPoint>& points) {
     Box3 box;
@@ -85,9 +87,7 @@ TEST(MpuField, PassesWithinTheAccuracyOfEveryPoint) {
 // for. Balls of 6 points and an accuracy of 7e-4 bring every point within
 // 9.4e-4. The report's worst and mean are the fit's own.
 TEST(MpuField, SparseScanFitsEveryPointWithinAThousandthOfItsSize) {
-    std::vector<MpuPoint> points;
-    for (const OrientedPoint& p : readOrientedPoints(std::string(ISOTRACE_SOURCE_DIR) + "/scenes/scans/kitten.xyz"))
-        points.push_back({p.position, p.normal});
+    const std::vector<MpuPoint> points = loadPath(std::string(ISOTRACE_SOURCE_DIR) + "/scenes/scans/kitten.xyz");
     MpuOptions options;
     options.accuracy = 7e-4;
     options.minPoints = 6;
