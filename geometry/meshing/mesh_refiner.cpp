@@ -8,6 +8,7 @@
 #include <vector>
 
 #include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 
 #include "geometry/meshing/mesh_analysis.h"
 
@@ -34,6 +35,15 @@ constexpr double kLeastArea = 1e-6;
 /// bisections), counting the neighbours the longest-edge paths split too.
 constexpr size_t kLikelyFacesPerFailure = 4;
 
+/// Blocks of the parallel first pass hold about this many faces (up to
+/// kMaxBlocksPerAxis^3 of them): enough work per block to hide scheduling,
+/// few enough faces on their walls.
+constexpr double kFacesPerBlock = 4096.0;
+constexpr int kMaxBlocksPerAxis = 4;
+
+/// No block: a face on the blocks' walls, or the whole mesh's pass.
+constexpr uint32_t kNoBlock = std::numeric_limits<uint32_t>::max();
+
 inline uint64_t undirected(uint32_t a, uint32_t b) { return (uint64_t(std::min(a, b)) << 32) | std::max(a, b); }
 
 class Refiner {
@@ -43,6 +53,25 @@ class Refiner {
         Vec3 position = Vec3::Zero();
         double value = 0.0;
         Vec3 gradient = Vec3::Zero();
+    };
+
+    using Face = std::array<uint32_t, 3>;
+
+    // Where splits happen: the whole mesh (one thread), or one block of the
+    // parallel first pass, which splits only faces whose vertices all lie in
+    // it and writes the faces and vertices it makes into its own slots of
+    // the mesh's arrays (closed up when the blocks are done). No two blocks
+    // write the same face: a face's vertices never leave their block, and
+    // an edge whose ends lie in a block belongs to faces no other block owns.
+    struct Region {
+        uint32_t block = kNoBlock;  ///< kNoBlock: the whole mesh, appending
+        size_t firstFace = 0, faceSlots = 0, faces = 0;           ///< a block's slots, and how many it used
+        size_t firstVertex = 0, vertexSlots = 0, vertices = 0;
+        std::vector<uint32_t> pending, path;
+        /// Faces whose refinement reaches outside the block (or past its
+        /// slots): the whole-mesh pass takes them on.
+        std::vector<uint32_t> deferred;
+        RefineStatistics statistics;
     };
 
 public:
@@ -59,41 +88,172 @@ public:
         longestInput_ = std::sqrt(longestInput_);
         for (const Vec3& p : mesh_.vertices) inputBox_.extend(p);
         std::vector<char> fails(n, 0);
-        tbb::parallel_for(size_t(0), n, [&](size_t t) { fails[t] = worthRefining(uint32_t(t)); });
-        for (size_t t = n; t-- > 0;)
-            if (fails[t]) pending_.push_back(uint32_t(t));
-        // Splits add their faces back to `pending_`, to be checked again.
+        tbb::task_arena arena(options_.threads > 0 ? options_.threads : tbb::task_arena::automatic);
+        arena.execute([&] {
+            tbb::parallel_for(size_t(0), n, [&](size_t t) { fails[t] = worthRefining(uint32_t(t)); });
+        });
+        // Splits add their faces back to `pending`, to be checked again.
         maxFaces_ = kMaxGrowth * std::max<size_t>(n, 1);
         frozen_.assign(n, 0);
-        reserveFor(n);
-        while (!pending_.empty() && mesh_.triangles.size() < maxFaces_) {
-            const uint32_t t = pending_.back();
-            pending_.pop_back();
-            if (!frozen_[t] && worthRefining(t) && longestLength2(t) >= options_.minEdgeLength * options_.minEdgeLength)
-                refine(t);
-        }
-        RefineStatistics s = statistics_;
+        std::vector<uint32_t> failing;
+        for (size_t t = n; t-- > 0;)
+            if (fails[t]) failing.push_back(uint32_t(t));
+        const int perAxis =
+            std::clamp(int(std::lround(std::cbrt(double(n) / kFacesPerBlock))), 1, kMaxBlocksPerAxis);
+        if (perAxis > 1) failing = refineBlocks(arena, perAxis, failing);
+        whole_.pending = std::move(failing);
+        reserveFor(whole_.pending.size());
+        drain(whole_);
+        RefineStatistics s = whole_.statistics;
         std::vector<char> left(mesh_.triangles.size(), 0);
-        tbb::parallel_for(size_t(0), left.size(), [&](size_t t) { left[t] = beyond(uint32_t(t)); });
+        arena.execute([&] {
+            tbb::parallel_for(size_t(0), left.size(), [&](size_t t) { left[t] = beyond(uint32_t(t)); });
+        });
         s.facesBeyond = size_t(std::count(left.begin(), left.end(), 1));
         return s;
     }
 
 private:
+    // The parallel first pass: the input's box cut into perAxis^3 blocks,
+    // each refining its own failing faces at once into slots of room for
+    // the faces they will likely become; then the slots are closed up, in
+    // block order (so the mesh does not depend on the threads' timing).
+    // Returns what the whole-mesh pass must still check: faces on the
+    // blocks' walls, and those whose longest-edge path left their block.
+    std::vector<uint32_t> refineBlocks(tbb::task_arena& arena, int perAxis, const std::vector<uint32_t>& failing) {
+        const size_t n = mesh_.triangles.size(), vertexCount = mesh_.vertices.size();
+        const Vec3 cellsPerUnit = (double(perAxis) / inputBox_.extent().array().max(1e-300)).matrix();
+        std::vector<uint32_t> vertexBlock(vertexCount);
+        faceBlock_.resize(n);
+        arena.execute([&] {
+            tbb::parallel_for(size_t(0), vertexCount, [&](size_t v) {
+                int cell[3];
+                for (int k = 0; k < 3; ++k)
+                    cell[k] = std::clamp(int((mesh_.vertices[v][k] - inputBox_.lower[k]) * cellsPerUnit[k]), 0, perAxis - 1);
+                vertexBlock[v] = uint32_t((cell[0] * perAxis + cell[1]) * perAxis + cell[2]);
+            });
+            tbb::parallel_for(size_t(0), n, [&](size_t t) {
+                const Face& v = mesh_.triangles[t];
+                const uint32_t b = vertexBlock[v[0]];
+                faceBlock_[t] = vertexBlock[v[1]] == b && vertexBlock[v[2]] == b ? b : kNoBlock;
+            });
+        });
+        std::vector<Region> regions(size_t(perAxis) * perAxis * perAxis);
+        std::vector<size_t> owned(regions.size(), 0);
+        for (size_t t = 0; t < n; ++t)
+            if (faceBlock_[t] != kNoBlock) ++owned[faceBlock_[t]];
+        std::vector<uint32_t> walls;  // failing faces no block owns
+        for (uint32_t t : failing) (faceBlock_[t] == kNoBlock ? walls : regions[faceBlock_[t]].pending).push_back(t);
+        // Slots: about four faces per failing one (two splits, counting the
+        // neighbours split with it), a vertex per two faces (a split of an
+        // inner edge makes two faces and one vertex, of an outer one one of
+        // each: the budget stops at whichever fills first).
+        size_t faces = n, vertices = vertexCount;
+        for (size_t b = 0; b < regions.size(); ++b) {
+            Region& r = regions[b];
+            r.block = uint32_t(b);
+            r.faceSlots = std::min((kMaxGrowth - 1) * owned[b], kLikelyFacesPerFailure * r.pending.size());
+            r.vertexSlots = r.faceSlots / 2 + 1;
+            r.firstFace = faces;
+            r.firstVertex = vertices;
+            faces += r.faceSlots;
+            vertices += r.vertexSlots;
+        }
+        resizeMesh(faces, vertices);
+        arena.execute([&] {
+            tbb::parallel_for(size_t(0), regions.size(), [&](size_t b) {
+                Region& r = regions[b];
+                drain(r);
+                r.deferred.insert(r.deferred.end(), r.pending.begin(), r.pending.end());  // left by the budget
+            });
+        });
+        // Close up the slots: each block's faces and vertices move down to
+        // follow the previous block's, and every reference to them moves
+        // with them.
+        std::vector<size_t> faceStarts, faceShifts, vertexStarts, vertexShifts;
+        faces = n;
+        vertices = vertexCount;
+        for (const Region& r : regions) {
+            faceStarts.push_back(r.firstFace);
+            faceShifts.push_back(r.firstFace - faces);
+            vertexStarts.push_back(r.firstVertex);
+            vertexShifts.push_back(r.firstVertex - vertices);
+            std::copy_n(mesh_.triangles.begin() + r.firstFace, r.faces, mesh_.triangles.begin() + faces);
+            std::copy_n(neighbours_.begin() + r.firstFace, r.faces, neighbours_.begin() + faces);
+            std::copy_n(frozen_.begin() + r.firstFace, r.faces, frozen_.begin() + faces);
+            std::copy_n(mesh_.vertices.begin() + r.firstVertex, r.vertices, mesh_.vertices.begin() + vertices);
+            if (!mesh_.normals.empty())
+                std::copy_n(mesh_.normals.begin() + r.firstVertex, r.vertices, mesh_.normals.begin() + vertices);
+            faces += r.faces;
+            vertices += r.vertices;
+            whole_.statistics.splits += r.statistics.splits;
+            whole_.statistics.refusedSplits += r.statistics.refusedSplits;
+        }
+        resizeMesh(faces, vertices);
+        auto moved = [](uint32_t id, size_t first, const std::vector<size_t>& starts, const std::vector<size_t>& shifts) {
+            if (id < first || id >= kBlocked) return id;
+            const size_t b = size_t(std::upper_bound(starts.begin(), starts.end(), size_t(id)) - starts.begin()) - 1;
+            return uint32_t(id - shifts[b]);
+        };
+        arena.execute([&] {
+            tbb::parallel_for(size_t(0), faces, [&](size_t t) {
+                for (uint32_t& v : mesh_.triangles[t]) v = moved(v, vertexCount, vertexStarts, vertexShifts);
+                for (uint32_t& f : neighbours_[t]) f = moved(f, n, faceStarts, faceShifts);
+            });
+        });
+        std::vector<uint32_t> pending;
+        for (const Region& r : regions)
+            for (uint32_t t : r.deferred) pending.push_back(moved(t, n, faceStarts, faceShifts));
+        faceBlock_.clear();
+        // Walls first, in the order the whole-mesh pass pops them.
+        pending.insert(pending.end(), walls.begin(), walls.end());
+        return pending;
+    }
+
+    void resizeMesh(size_t faces, size_t vertices) {
+        mesh_.triangles.resize(faces);
+        neighbours_.resize(faces);
+        frozen_.resize(faces);
+        mesh_.vertices.resize(vertices);
+        if (!mesh_.normals.empty()) mesh_.normals.resize(vertices);
+    }
+
+    void drain(Region& r) {
+        while (!r.pending.empty() && withinBudget(r)) {
+            const uint32_t t = r.pending.back();
+            r.pending.pop_back();
+            if (!frozen_[t] && worthRefining(t) &&
+                longestLength2(t) >= options_.minEdgeLength * options_.minEdgeLength)
+                refine(r, t);
+        }
+    }
+
+    bool withinBudget(const Region& r) const {
+        return r.block == kNoBlock ? mesh_.triangles.size() < maxFaces_
+                                   : r.faces + 2 <= r.faceSlots && r.vertices + 1 <= r.vertexSlots;
+    }
+
     // Room for the faces the failing ones will likely become (each about
     // four), so that the arrays grow without copying: on the sphere of
     // bench/polygonize_throughput, refinement took 0.124 s growing them by
     // doubling and 0.114 s with room made first.
-    void reserveFor(size_t n) {
-        const size_t failing = pending_.size();
-        const size_t faces = std::min(maxFaces_, n + kLikelyFacesPerFailure * failing);
+    void reserveFor(size_t failing) {
+        const size_t n = mesh_.triangles.size();
+        const size_t faces = std::max(n, std::min(maxFaces_, n + kLikelyFacesPerFailure * failing));
         const size_t vertices = mesh_.vertices.size() + faces - n;  // a split adds one vertex, two faces or one
         mesh_.triangles.reserve(faces);
         neighbours_.reserve(faces);
         frozen_.reserve(faces);
         mesh_.vertices.reserve(vertices);
         if (!mesh_.normals.empty()) mesh_.normals.reserve(vertices);
-        pending_.reserve(2 * (faces - n) + failing);  // a split queues its faces again
+        whole_.pending.reserve(2 * (faces - n) + failing);  // a split queues its faces again
+    }
+
+    // Whether region r may split face t: all of it (the whole mesh), or
+    // the faces of its block, old or new (a block's path never reaches
+    // another block's new faces: they share no edge with its own).
+    bool owns(const Region& r, uint32_t t) const {
+        return r.block == kNoBlock || t >= faceBlock_.size() || faceBlock_[t] == r.block;
     }
 
     // neighbours_[t][k]: the face across edge k of t (from vertex k to k + 1),
@@ -137,7 +297,7 @@ private:
     }
 
     Vec3 centroid(uint32_t t) const {
-        const auto& v = mesh_.triangles[t];
+        const Face& v = mesh_.triangles[t];
         return (mesh_.vertices[v[0]] + mesh_.vertices[v[1]] + mesh_.vertices[v[2]]) / 3.0;
     }
 
@@ -150,7 +310,8 @@ private:
     // farther).
     bool worthRefining(uint32_t t) const {
         double gradientNorm;
-        return distance(centroid(t), &gradientNorm) > options_.maxDistance && gradientNorm >= leastReliableGradient_;
+        return distance(centroid(t), &gradientNorm) > options_.maxDistance &&
+               gradientNorm >= leastReliableGradient_;
     }
 
     // A tenth of the median gradient length at (up to 4,096 of) the vertices.
@@ -167,12 +328,14 @@ private:
         return kReliableGradientFraction * lengths[lengths.size() / 2];
     }
 
-    double length2(uint32_t a, uint32_t b) const { return (mesh_.vertices[a] - mesh_.vertices[b]).squaredNorm(); }
+    double length2(uint32_t a, uint32_t b) const {
+        return (mesh_.vertices[a] - mesh_.vertices[b]).squaredNorm();
+    }
 
     // The longest edge, ties broken by the edge's vertex numbers so that the
     // two faces of an edge agree.
     int longest(uint32_t t) const {
-        const auto& v = mesh_.triangles[t];
+        const Face& v = mesh_.triangles[t];
         int best = 0;
         double bestLength = length2(v[0], v[1]);
         uint64_t bestKey = undirected(v[0], v[1]);
@@ -189,7 +352,7 @@ private:
     }
 
     double longestLength2(uint32_t t) const {
-        const auto& v = mesh_.triangles[t];
+        const Face& v = mesh_.triangles[t];
         const int k = longest(t);
         return length2(v[k], v[(k + 1) % 3]);
     }
@@ -201,28 +364,37 @@ private:
     // not smooth there (or its gradient nearly vanishes, and |f| / |grad f|
     // is no distance): the edge stays whole, its faces are not refined
     // again, and the path is given up (the splits made along it are
-    // complete in themselves).
-    void refine(uint32_t t) {
-        path_.clear();
-        path_.push_back(t);
-        while (!path_.empty() && mesh_.triangles.size() < maxFaces_) {
-            const uint32_t s = path_.back();
+    // complete in themselves). A block gives up a path that reaches a face
+    // it does not own, and leaves t to the whole-mesh pass.
+    void refine(Region& r, uint32_t t) {
+        r.path.clear();
+        r.path.push_back(t);
+        while (!r.path.empty()) {
+            if (!withinBudget(r)) {
+                if (r.block != kNoBlock) r.deferred.push_back(t);
+                return;
+            }
+            const uint32_t s = r.path.back();
             if (frozen_[s]) return;
             const int k = longest(s);
             const uint32_t u = neighbours_[s][k];
             if (u == kBlocked) return;  // t stays as it is
+            if (u != kNone && !owns(r, u)) {
+                r.deferred.push_back(t);
+                return;
+            }
             if (u == kNone || neighbours_[u][longest(u)] == s) {
                 SurfaceSample p;
                 if (!splitPoint(s, k, u, p)) {
                     frozen_[s] = 1;
                     if (u != kNone) frozen_[u] = 1;
-                    ++statistics_.refusedSplits;
+                    ++r.statistics.refusedSplits;
                     return;
                 }
-                split(s, k, p);
-                path_.pop_back();
+                split(r, s, k, p);
+                r.path.pop_back();
             } else {
-                path_.push_back(u);
+                r.path.push_back(u);
             }
         }
     }
@@ -234,7 +406,7 @@ private:
     // the midpoint along the faces' normal; or the midpoint itself, if
     // within the tolerance. False when none does.
     bool splitPoint(uint32_t t, int k, uint32_t u, SurfaceSample& p) const {
-        const auto& v = mesh_.triangles[t];
+        const Face& v = mesh_.triangles[t];
         const Vec3 &a = mesh_.vertices[v[k]], &b = mesh_.vertices[v[(k + 1) % 3]];
         const double length = (a - b).norm();
         const Vec3 midpoint = 0.5 * (a + b);
@@ -265,7 +437,7 @@ private:
     }
 
     Vec3 faceNormal(uint32_t t) const {
-        const auto& v = mesh_.triangles[t];
+        const Face& v = mesh_.triangles[t];
         const Vec3 n = (mesh_.vertices[v[1]] - mesh_.vertices[v[0]]).cross(mesh_.vertices[v[2]] - mesh_.vertices[v[0]]);
         const double l = n.norm();
         return l > 0 ? Vec3(n / l) : Vec3::Zero();
@@ -326,9 +498,8 @@ private:
     // new face may fold over or be degenerate. So each split edge shrinks,
     // no edge grows past the input's, and no face collapses.
     bool acceptable(uint32_t t, int k, uint32_t u, const SurfaceSample& sample) const {
-        const auto& v = mesh_.triangles[t];
-        const Vec3 &a = mesh_.vertices[v[k]], &b = mesh_.vertices[v[(k + 1) % 3]],
-                   &c = mesh_.vertices[v[(k + 2) % 3]];
+        const Face& v = mesh_.triangles[t];
+        const Vec3 &a = mesh_.vertices[v[k]], &b = mesh_.vertices[v[(k + 1) % 3]], &c = mesh_.vertices[v[(k + 2) % 3]];
         const double length = (a - b).norm();
         const Vec3& p = sample.position;
         const Vec3& outward = sample.gradient;  // for the orientation test below
@@ -359,31 +530,45 @@ private:
         };
         if (!halvesKept(a, b, c)) return false;
         if (u == kNone) return true;
-        const auto& w = mesh_.triangles[u];
+        const Face& w = mesh_.triangles[u];
         int j = 0;
         while (w[j] != v[(k + 1) % 3]) ++j;
         return halvesKept(b, a, mesh_.vertices[w[(j + 2) % 3]]);
     }
 
-    uint32_t addVertex(const SurfaceSample& p) {
-        const uint32_t m = uint32_t(mesh_.vertices.size());
-        mesh_.vertices.push_back(p.position);
-        if (!mesh_.normals.empty())
-            mesh_.normals.push_back(p.gradient.norm() > 0 ? Vec3(p.gradient.normalized()) : Vec3(0, 1, 0));
-        return m;
+    uint32_t addVertex(Region& r, const SurfaceSample& p) {
+        const Vec3 normal = p.gradient.norm() > 0 ? Vec3(p.gradient.normalized()) : Vec3(0, 1, 0);
+        if (r.block == kNoBlock) {
+            mesh_.vertices.push_back(p.position);
+            if (!mesh_.normals.empty()) mesh_.normals.push_back(normal);
+            return uint32_t(mesh_.vertices.size() - 1);
+        }
+        const size_t m = r.firstVertex + r.vertices++;
+        mesh_.vertices[m] = p.position;
+        if (!mesh_.normals.empty()) mesh_.normals[m] = normal;
+        return uint32_t(m);
     }
 
-    uint32_t addFace(const std::array<uint32_t, 3>& v, const std::array<uint32_t, 3>& n) {
-        mesh_.triangles.push_back(v);
-        neighbours_.push_back(n);
-        frozen_.push_back(0);
-        return uint32_t(mesh_.triangles.size() - 1);
+    uint32_t addFace(Region& r, const Face& v, const Face& n) {
+        if (r.block == kNoBlock) {
+            mesh_.triangles.push_back(v);
+            neighbours_.push_back(n);
+            frozen_.push_back(0);
+            return uint32_t(mesh_.triangles.size() - 1);
+        }
+        const size_t f = r.firstFace + r.faces++;
+        mesh_.triangles[f] = v;
+        neighbours_[f] = n;
+        frozen_[f] = 0;
+        return uint32_t(f);
     }
 
-    // Points the neighbour of face f across edge (x, y) at g.
+    // Points the neighbour of face f across edge (x, y) at g. In a block, f
+    // may be a face on its wall that it does not own: only the entry for
+    // this edge (whose ends are the block's) is written.
     void relink(uint32_t f, uint32_t x, uint32_t y, uint32_t g) {
         if (f == kNone || f == kBlocked) return;
-        const auto& v = mesh_.triangles[f];
+        const Face& v = mesh_.triangles[f];
         for (int k = 0; k < 3; ++k)
             if (undirected(v[k], v[(k + 1) % 3]) == undirected(x, y)) neighbours_[f][k] = g;
     }
@@ -391,51 +576,53 @@ private:
     // Splits edge k of t, (a, b), at a new vertex m at p: t = (a, b, c) becomes
     // (a, m, c) and (m, b, c); the face beyond, u = (b, a, d), becomes
     // (b, m, d) and (m, a, d). Orientation is kept.
-    void split(uint32_t t, int k, const SurfaceSample& p) {
-        const auto tv = mesh_.triangles[t];
-        const auto tn = neighbours_[t];
+    void split(Region& r, uint32_t t, int k, const SurfaceSample& p) {
+        const Face tv = mesh_.triangles[t];
+        const Face tn = neighbours_[t];
         const uint32_t a = tv[k], b = tv[(k + 1) % 3], c = tv[(k + 2) % 3];
         const uint32_t acrossBC = tn[(k + 1) % 3], acrossCA = tn[(k + 2) % 3];
         const uint32_t u = tn[k];
-        const uint32_t m = addVertex(p);
-        ++statistics_.splits;
+        const uint32_t m = addVertex(r, p);
+        ++r.statistics.splits;
         if (u == kNone) {
-            const uint32_t t2 = addFace({m, b, c}, {kNone, acrossBC, t});
+            const uint32_t t2 = addFace(r, {m, b, c}, {kNone, acrossBC, t});
             mesh_.triangles[t] = {a, m, c};
             neighbours_[t] = {kNone, t2, acrossCA};
             relink(acrossBC, b, c, t2);
-            pending_.insert(pending_.end(), {t, t2});
+            r.pending.insert(r.pending.end(), {t, t2});
             return;
         }
-        const auto uv = mesh_.triangles[u];
-        const auto un = neighbours_[u];
+        const Face uv = mesh_.triangles[u];
+        const Face un = neighbours_[u];
         int j = 0;
         while (!(uv[j] == b && uv[(j + 1) % 3] == a)) ++j;
         const uint32_t d = uv[(j + 2) % 3], acrossAD = un[(j + 1) % 3], acrossDB = un[(j + 2) % 3];
-        const uint32_t t2 = uint32_t(mesh_.triangles.size()), u2 = t2 + 1;
-        addFace({m, b, c}, {u, acrossBC, t});
-        addFace({m, a, d}, {t, acrossAD, u});
+        const uint32_t t2 = addFace(r, {m, b, c}, {u, acrossBC, t});
+        const uint32_t u2 = addFace(r, {m, a, d}, {t, acrossAD, u});
         mesh_.triangles[t] = {a, m, c};
         neighbours_[t] = {u2, t2, acrossCA};
         mesh_.triangles[u] = {b, m, d};
         neighbours_[u] = {t2, u2, acrossDB};
         relink(acrossBC, b, c, t2);
         relink(acrossAD, a, d, u2);
-        pending_.insert(pending_.end(), {t, t2, u, u2});
+        r.pending.insert(r.pending.end(), {t, t2, u, u2});
     }
 
     IndexedMesh& mesh_;
     const FieldProgram& field_;
     RefineOptions options_;
-    std::vector<std::array<uint32_t, 3>> neighbours_;
-    std::vector<uint32_t> pending_, path_;
+    std::vector<Face> neighbours_;
     std::vector<char> frozen_;  ///< faces not to refine further
+    /// In the parallel pass, the block owning each face of the input (all its
+    /// vertices lie in it), or kNoBlock; faces past it are the blocks' new ones.
+    std::vector<uint32_t> faceBlock_;
+    Region whole_;  ///< the whole mesh: its pending faces and statistics
     double leastReliableGradient_ = 0.0;
     size_t maxFaces_ = 0;
     double longestInput_ = 0.0;
     Box3 inputBox_;
-    RefineStatistics statistics_;
 };
+
 
 }  // namespace
 

@@ -24,6 +24,7 @@ struct RefineOptions {
     /// Faces whose longest edge is shorter are left as they are (where the
     /// field is not smooth, halving may not bring a face nearer).
     double minEdgeLength = 0.0;
+    int threads = 0;  ///< 0: all cores
 };
 
 struct RefineStatistics {

@@ -119,7 +119,7 @@ Polygonization polygonize(const FieldProgram& field, const PolygonizeOptions& op
             const auto refinement = stageStart();
             const double cell = bounds.extent().maxCoeff() / result.extractionResolution;
             const RefineStatistics refined =
-                refineMesh(m, field, {.maxDistance = tolerance, .minEdgeLength = kMinEdgeFraction * cell});
+                refineMesh(m, field, {.maxDistance = tolerance, .minEdgeLength = kMinEdgeFraction * cell, .threads = options.threads});
             if (refined.facesBeyond > 0)
                 result.warnings.push_back(std::to_string(refined.facesBeyond) +
                                           " faces stay farther than the tolerance " + std::to_string(tolerance) +

@@ -144,3 +144,41 @@ TEST(MeshRefiner, AnEdgeOfThreeFacesStaysWhole) {
                         (tri[k] == finned[1] && tri[(k + 1) % 3] == finned[0]);
     EXPECT_EQ(withEdge, 3u);
 }
+
+// Meshes of more than a few thousand faces are refined in blocks at once,
+// then along the blocks' walls: the result is conforming and within the
+// tolerance, and the same whatever the number of threads (the blocks' new
+// faces join the mesh in block order, not in the order threads finish).
+TEST(MeshRefiner, BlocksRefinedAtOnceGiveTheSameMeshOnAnyNumberOfThreads) {
+    struct Case {
+        const char* json;
+        bool closed;
+        long long euler;
+    };
+    for (const Case& c : {Case{R"({"type": "sphere", "radius": 1})", true, 2},
+                          Case{R"({"type": "torus", "major": 1, "minor": 0.3})", true, 0},
+                          Case{R"({"type": "sphere", "radius": 1, "bounds": [[-2, -2, -2], [2, 2, 0.5]]})", false, 1}}) {
+        const FieldProgram field = compileField(c.json);
+        const IndexedMesh input = marchingCubesMesh(field, 64);
+        // Blocks of about 4,096 faces, two or more along each axis.
+        ASSERT_GT(input.triangles.size(), 14000u) << c.json << ": the test needs more than one block";
+        const double tolerance = measureAccuracy(input, field).maxCentroidDistance / 4;
+        IndexedMesh one = input, two = input;
+        const RefineStatistics s1 = refineMesh(one, field, {.maxDistance = tolerance, .threads = 1});
+        const RefineStatistics s2 = refineMesh(two, field, {.maxDistance = tolerance, .threads = 2});
+        EXPECT_GT(s1.splits, input.triangles.size() / 10) << c.json;
+        EXPECT_EQ(s1.splits, s2.splits) << c.json;
+        EXPECT_EQ(one.triangles, two.triangles) << c.json;
+        EXPECT_EQ(one.vertices, two.vertices) << c.json;
+        EXPECT_EQ(one.normals, two.normals) << c.json;
+        const MeshAccuracy a = measureAccuracy(two, field);
+        const MeshTopology t = analyzeTopology(two);
+        EXPECT_LE(a.maxCentroidDistance, tolerance) << c.json;
+        EXPECT_EQ(s2.facesBeyond, 0u) << c.json;
+        EXPECT_EQ(t.watertight(), c.closed) << c.json;
+        EXPECT_EQ(t.nonManifoldEdges, 0u) << c.json;
+        EXPECT_TRUE(t.oriented()) << c.json;
+        EXPECT_EQ(t.eulerCharacteristic, c.euler) << c.json;
+        EXPECT_EQ(two.normals.size(), two.vertices.size()) << c.json;
+    }
+}
