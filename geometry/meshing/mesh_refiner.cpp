@@ -41,6 +41,9 @@ constexpr size_t kLikelyFacesPerFailure = 4;
 constexpr double kFacesPerBlock = 4096.0;
 constexpr int kMaxBlocksPerAxis = 4;
 
+/// Face flags (Refiner::flags_).
+constexpr char kFrozen = 1, kWithin = 2, kBeyond = 4, kWorthRefining = 8;
+
 /// No block: a face on the blocks' walls, or the whole mesh's pass.
 constexpr uint32_t kNoBlock = std::numeric_limits<uint32_t>::max();
 
@@ -87,17 +90,14 @@ public:
         for (size_t t = 0; t < n; ++t) longestInput_ = std::max(longestInput_, longestLength2(uint32_t(t)));
         longestInput_ = std::sqrt(longestInput_);
         for (const Vec3& p : mesh_.vertices) inputBox_.extend(p);
-        std::vector<char> fails(n, 0);
+        flags_.assign(n, 0);
         tbb::task_arena arena(options_.threads > 0 ? options_.threads : tbb::task_arena::automatic);
-        arena.execute([&] {
-            tbb::parallel_for(size_t(0), n, [&](size_t t) { fails[t] = worthRefining(uint32_t(t)); });
-        });
+        arena.execute([&] { tbb::parallel_for(size_t(0), n, [&](size_t t) { worthRefining(uint32_t(t)); }); });
         // Splits add their faces back to `pending`, to be checked again.
         maxFaces_ = kMaxGrowth * std::max<size_t>(n, 1);
-        frozen_.assign(n, 0);
         std::vector<uint32_t> failing;
         for (size_t t = n; t-- > 0;)
-            if (fails[t]) failing.push_back(uint32_t(t));
+            if (flags_[t] & kWorthRefining) failing.push_back(uint32_t(t));
         const int perAxis =
             std::clamp(int(std::lround(std::cbrt(double(n) / kFacesPerBlock))), 1, kMaxBlocksPerAxis);
         if (perAxis > 1) failing = refineBlocks(arena, perAxis, failing);
@@ -105,9 +105,13 @@ public:
         reserveFor(whole_.pending.size());
         drain(whole_);
         RefineStatistics s = whole_.statistics;
+        // Faces measured since they last changed need no new measurement.
         std::vector<char> left(mesh_.triangles.size(), 0);
         arena.execute([&] {
-            tbb::parallel_for(size_t(0), left.size(), [&](size_t t) { left[t] = beyond(uint32_t(t)); });
+            tbb::parallel_for(size_t(0), left.size(), [&](size_t t) {
+                const char f = flags_[t];
+                left[t] = (f & kWithin) ? 0 : (f & kBeyond) ? 1 : beyond(uint32_t(t));
+            });
         });
         s.facesBeyond = size_t(std::count(left.begin(), left.end(), 1));
         return s;
@@ -180,7 +184,7 @@ private:
             vertexShifts.push_back(r.firstVertex - vertices);
             std::copy_n(mesh_.triangles.begin() + r.firstFace, r.faces, mesh_.triangles.begin() + faces);
             std::copy_n(neighbours_.begin() + r.firstFace, r.faces, neighbours_.begin() + faces);
-            std::copy_n(frozen_.begin() + r.firstFace, r.faces, frozen_.begin() + faces);
+            std::copy_n(flags_.begin() + r.firstFace, r.faces, flags_.begin() + faces);
             std::copy_n(mesh_.vertices.begin() + r.firstVertex, r.vertices, mesh_.vertices.begin() + vertices);
             if (!mesh_.normals.empty())
                 std::copy_n(mesh_.normals.begin() + r.firstVertex, r.vertices, mesh_.normals.begin() + vertices);
@@ -213,7 +217,7 @@ private:
     void resizeMesh(size_t faces, size_t vertices) {
         mesh_.triangles.resize(faces);
         neighbours_.resize(faces);
-        frozen_.resize(faces);
+        flags_.resize(faces);
         mesh_.vertices.resize(vertices);
         if (!mesh_.normals.empty()) mesh_.normals.resize(vertices);
     }
@@ -222,7 +226,7 @@ private:
         while (!r.pending.empty() && withinBudget(r)) {
             const uint32_t t = r.pending.back();
             r.pending.pop_back();
-            if (!frozen_[t] && worthRefining(t) &&
+            if (!(flags_[t] & kFrozen) && worthRefining(t) &&
                 longestLength2(t) >= options_.minEdgeLength * options_.minEdgeLength)
                 refine(r, t);
         }
@@ -243,7 +247,7 @@ private:
         const size_t vertices = mesh_.vertices.size() + faces - n;  // a split adds one vertex, two faces or one
         mesh_.triangles.reserve(faces);
         neighbours_.reserve(faces);
-        frozen_.reserve(faces);
+        flags_.reserve(faces);
         mesh_.vertices.reserve(vertices);
         if (!mesh_.normals.empty()) mesh_.normals.reserve(vertices);
         whole_.pending.reserve(2 * (faces - n) + failing);  // a split queues its faces again
@@ -308,10 +312,14 @@ private:
     // surface (near a singular point of the field, such as the saddle of a
     // smooth union, smaller faces only come nearer the point and look
     // farther).
-    bool worthRefining(uint32_t t) const {
+    // The measurement is kept in the face's flags (each face is measured by
+    // the one thread that owns it).
+    bool worthRefining(uint32_t t) {
         double gradientNorm;
-        return distance(centroid(t), &gradientNorm) > options_.maxDistance &&
-               gradientNorm >= leastReliableGradient_;
+        const bool far = distance(centroid(t), &gradientNorm) > options_.maxDistance;
+        const bool worth = far && gradientNorm >= leastReliableGradient_;
+        flags_[t] = char((flags_[t] & kFrozen) | (far ? kBeyond : kWithin) | (worth ? kWorthRefining : 0));
+        return worth;
     }
 
     // A tenth of the median gradient length at (up to 4,096 of) the vertices.
@@ -375,7 +383,7 @@ private:
                 return;
             }
             const uint32_t s = r.path.back();
-            if (frozen_[s]) return;
+            if (flags_[s] & kFrozen) return;
             const int k = longest(s);
             const uint32_t u = neighbours_[s][k];
             if (u == kBlocked) return;  // t stays as it is
@@ -386,8 +394,8 @@ private:
             if (u == kNone || neighbours_[u][longest(u)] == s) {
                 SurfaceSample p;
                 if (!splitPoint(s, k, u, p)) {
-                    frozen_[s] = 1;
-                    if (u != kNone) frozen_[u] = 1;
+                    flags_[s] |= kFrozen;
+                    if (u != kNone) flags_[u] |= kFrozen;
                     ++r.statistics.refusedSplits;
                     return;
                 }
@@ -553,13 +561,13 @@ private:
         if (r.block == kNoBlock) {
             mesh_.triangles.push_back(v);
             neighbours_.push_back(n);
-            frozen_.push_back(0);
+            flags_.push_back(0);
             return uint32_t(mesh_.triangles.size() - 1);
         }
         const size_t f = r.firstFace + r.faces++;
         mesh_.triangles[f] = v;
         neighbours_[f] = n;
-        frozen_[f] = 0;
+        flags_[f] = 0;
         return uint32_t(f);
     }
 
@@ -584,6 +592,7 @@ private:
         const uint32_t u = tn[k];
         const uint32_t m = addVertex(r, p);
         ++r.statistics.splits;
+        flags_[t] &= kFrozen;  // changed: measured again when popped
         if (u == kNone) {
             const uint32_t t2 = addFace(r, {m, b, c}, {kNone, acrossBC, t});
             mesh_.triangles[t] = {a, m, c};
@@ -597,6 +606,7 @@ private:
         int j = 0;
         while (!(uv[j] == b && uv[(j + 1) % 3] == a)) ++j;
         const uint32_t d = uv[(j + 2) % 3], acrossAD = un[(j + 1) % 3], acrossDB = un[(j + 2) % 3];
+        flags_[u] &= kFrozen;
         const uint32_t t2 = addFace(r, {m, b, c}, {u, acrossBC, t});
         const uint32_t u2 = addFace(r, {m, a, d}, {t, acrossAD, u});
         mesh_.triangles[t] = {a, m, c};
@@ -612,7 +622,10 @@ private:
     const FieldProgram& field_;
     RefineOptions options_;
     std::vector<Face> neighbours_;
-    std::vector<char> frozen_;  ///< faces not to refine further
+    /// Per face: kFrozen (not to refine further), and what the last
+    /// measurement of its centroid's distance found (kWithin or kBeyond,
+    /// with kWorthRefining), cleared when the face changes.
+    std::vector<char> flags_;
     /// In the parallel pass, the block owning each face of the input (all its
     /// vertices lie in it), or kNoBlock; faces past it are the blocks' new ones.
     std::vector<uint32_t> faceBlock_;
