@@ -10,6 +10,11 @@
 // first when it is not), so the mesh stays conforming (watertight and
 // 2-manifold, with the same genus) and no angle falls below half of the
 // smallest one it started with.
+//
+// Larger meshes are refined in blocks of space at once, each splitting only
+// faces whose vertices all lie in it, then along the blocks' walls; the new
+// faces and vertices are numbered block by block, so the result does not
+// depend on the number of threads.
 #pragma once
 
 #include <cstddef>
