@@ -42,7 +42,7 @@ constexpr double kFacesPerBlock = 4096.0;
 constexpr int kMaxBlocksPerAxis = 4;
 
 /// Face flags (Refiner::flags_).
-constexpr char kFrozen = 1, kWithin = 2, kBeyond = 4, kWorthRefining = 8;
+constexpr char kFrozen = 1, kWithin = 2, kBeyond = 4;
 
 /// No block: a face on the blocks' walls, or the whole mesh's pass.
 constexpr uint32_t kNoBlock = std::numeric_limits<uint32_t>::max();
@@ -79,8 +79,9 @@ class Refiner {
 
 public:
     Refiner(IndexedMesh& mesh, const FieldProgram& field, const RefineOptions& options)
-        : mesh_(mesh), field_(field), options_(options) {
-        findNeighbours();
+        : mesh_(mesh), field_(field), options_(options),
+          arena_(options.threads > 0 ? options.threads : tbb::task_arena::automatic) {
+        arena_.execute([&] { findNeighbours(); });
     }
 
     RefineStatistics run() {
@@ -91,23 +92,23 @@ public:
         longestInput_ = std::sqrt(longestInput_);
         for (const Vec3& p : mesh_.vertices) inputBox_.extend(p);
         flags_.assign(n, 0);
-        tbb::task_arena arena(options_.threads > 0 ? options_.threads : tbb::task_arena::automatic);
-        arena.execute([&] { tbb::parallel_for(size_t(0), n, [&](size_t t) { worthRefining(uint32_t(t)); }); });
+        std::vector<char> fails(n, 0);
+        arena_.execute([&] { tbb::parallel_for(size_t(0), n, [&](size_t t) { fails[t] = worthRefining(uint32_t(t)); }); });
         // Splits add their faces back to `pending`, to be checked again.
         maxFaces_ = kMaxGrowth * std::max<size_t>(n, 1);
         std::vector<uint32_t> failing;
         for (size_t t = n; t-- > 0;)
-            if (flags_[t] & kWorthRefining) failing.push_back(uint32_t(t));
+            if (fails[t]) failing.push_back(uint32_t(t));
         const int perAxis =
             std::clamp(int(std::lround(std::cbrt(double(n) / kFacesPerBlock))), 1, kMaxBlocksPerAxis);
-        if (perAxis > 1) failing = refineBlocks(arena, perAxis, failing);
+        if (perAxis > 1) failing = refineBlocks(perAxis, failing);
         whole_.pending = std::move(failing);
         reserveFor(whole_.pending.size());
         drain(whole_);
         RefineStatistics s = whole_.statistics;
         // Faces measured since they last changed need no new measurement.
         std::vector<char> left(mesh_.triangles.size(), 0);
-        arena.execute([&] {
+        arena_.execute([&] {
             tbb::parallel_for(size_t(0), left.size(), [&](size_t t) {
                 const char f = flags_[t];
                 left[t] = (f & kWithin) ? 0 : (f & kBeyond) ? 1 : beyond(uint32_t(t));
@@ -124,12 +125,12 @@ private:
     // block order (so the mesh does not depend on the threads' timing).
     // Returns what the whole-mesh pass must still check: faces on the
     // blocks' walls, and those whose longest-edge path left their block.
-    std::vector<uint32_t> refineBlocks(tbb::task_arena& arena, int perAxis, const std::vector<uint32_t>& failing) {
+    std::vector<uint32_t> refineBlocks(int perAxis, const std::vector<uint32_t>& failing) {
         const size_t n = mesh_.triangles.size(), vertexCount = mesh_.vertices.size();
         const Vec3 cellsPerUnit = (double(perAxis) / inputBox_.extent().array().max(1e-300)).matrix();
         std::vector<uint32_t> vertexBlock(vertexCount);
         faceBlock_.resize(n);
-        arena.execute([&] {
+        arena_.execute([&] {
             tbb::parallel_for(size_t(0), vertexCount, [&](size_t v) {
                 int cell[3];
                 for (int k = 0; k < 3; ++k)
@@ -164,7 +165,7 @@ private:
             vertices += r.vertexSlots;
         }
         resizeMesh(faces, vertices);
-        arena.execute([&] {
+        arena_.execute([&] {
             tbb::parallel_for(size_t(0), regions.size(), [&](size_t b) {
                 Region& r = regions[b];
                 drain(r);
@@ -199,7 +200,7 @@ private:
             const size_t b = size_t(std::upper_bound(starts.begin(), starts.end(), size_t(id)) - starts.begin()) - 1;
             return uint32_t(id - shifts[b]);
         };
-        arena.execute([&] {
+        arena_.execute([&] {
             tbb::parallel_for(size_t(0), faces, [&](size_t t) {
                 for (uint32_t& v : mesh_.triangles[t]) v = moved(v, vertexCount, vertexStarts, vertexShifts);
                 for (uint32_t& f : neighbours_[t]) f = moved(f, n, faceStarts, faceShifts);
@@ -318,7 +319,7 @@ private:
         double gradientNorm;
         const bool far = distance(centroid(t), &gradientNorm) > options_.maxDistance;
         const bool worth = far && gradientNorm >= leastReliableGradient_;
-        flags_[t] = char((flags_[t] & kFrozen) | (far ? kBeyond : kWithin) | (worth ? kWorthRefining : 0));
+        flags_[t] = char((flags_[t] & kFrozen) | (far ? kBeyond : kWithin));
         return worth;
     }
 
@@ -336,9 +337,7 @@ private:
         return kReliableGradientFraction * lengths[lengths.size() / 2];
     }
 
-    double length2(uint32_t a, uint32_t b) const {
-        return (mesh_.vertices[a] - mesh_.vertices[b]).squaredNorm();
-    }
+    double length2(uint32_t a, uint32_t b) const { return (mesh_.vertices[a] - mesh_.vertices[b]).squaredNorm(); }
 
     // The longest edge, ties broken by the edge's vertex numbers so that the
     // two faces of an edge agree.
@@ -621,10 +620,11 @@ private:
     IndexedMesh& mesh_;
     const FieldProgram& field_;
     RefineOptions options_;
+    tbb::task_arena arena_;  ///< options_.threads workers for every parallel step
     std::vector<Face> neighbours_;
     /// Per face: kFrozen (not to refine further), and what the last
-    /// measurement of its centroid's distance found (kWithin or kBeyond,
-    /// with kWorthRefining), cleared when the face changes.
+    /// measurement of its centroid's distance found (kWithin or kBeyond),
+    /// cleared when the face changes.
     std::vector<char> flags_;
     /// In the parallel pass, the block owning each face of the input (all its
     /// vertices lie in it), or kNoBlock; faces past it are the blocks' new ones.
