@@ -69,7 +69,8 @@ std::optional<CellAcceleration> VariationalCellAccelerator::accelerate(const Fie
     const Box3 leafBox = placement.identity ? box : transformBox(placement.linear, placement.offset, box);
     // Tolerance in the leaf's values: world values are valueScale times them.
     std::optional<std::vector<VariationalPatch>> models =
-        buildSurfaceModels(*variational->field, leafBox, relativeTolerance_ * surfaceDiagonal / placement.valueScale);
+        buildSurfaceModels(*variational->field, leafBox, relativeTolerance_ * surfaceDiagonal / placement.valueScale,
+                           maxDepth_);
     if (!models) return std::nullopt;
     // Each model's box shrunk to the sub-boxes (two bisections deep) whose
     // range by the model (VariationalPatch::rangeOver) may hold zero: rays

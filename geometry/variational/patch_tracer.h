@@ -18,6 +18,14 @@
 // point, the model's curvature bound and the error's bound (the value error,
 // or the drift from the anchor): near the surface a Newton-like step
 // instead of a geometric crawl (on the hand 4x fewer steps).
+//
+// Before the first anchor, a closest-hit query tries the model alone: near
+// the model's centre its error falls as the fifth power of the distance
+// (VariationalPatch::valueErrorWithin), and where that error is below the
+// model's margins the model itself proves the sign up to half a minStep
+// before its root and the other sign half a minStep after it. The hit is
+// then the model's root, with the model's gradient, and costs no exact sum
+// (on the hand, most hits).
 #pragma once
 
 #include "geometry/variational/variational_patch.h"
@@ -35,12 +43,16 @@ struct PatchTraceResult {
     Vec3 gradient = Vec3::Zero();
     int steps = 0;                 ///< model evaluations
     int exactEvaluations = 0;      ///< evaluations of the exact field
+    /// The hit was proven by the model alone, near its expansion point
+    /// where its error is small (within minStep / 2 of f's root).
+    bool modelHit = false;
 };
 
 /// First root of `field` along origin + t direction for t in [tStart, tEnd],
 /// a segment inside the model's box. Marching never skips a piece of
 /// surface thicker than minStep (in t) along the ray, and brackets the hit
-/// to one step of minStep before the Newton step.
+/// to one step of minStep before the Newton step; a hit the model proves
+/// alone (modelHit) is within minStep / 2 of f's first root.
 ///
 /// With anyHit (an occlusion query), a sign change the model proves is
 /// enough: the sign known where the ray was last cleared and the opposite

@@ -1,5 +1,6 @@
 #include "geometry/variational/variational_patch.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -187,11 +188,11 @@ struct Scratch {
 struct HermiteScratch {
     std::vector<double> dx, dy, dz, r, inverseR, s, bx, by, bz;
     std::vector<double> farR, farInvR, farInvR3, farInvR5, farInvR7, farS, farBx, farBy, farBz;
-    std::vector<double> remainder, magnitude;  // |b| / (r - s)^3 (far), 3 |b| (r + s)^2
+    std::vector<double> remainder, innerRemainder, magnitude;  // |b| / (r - s)^3, / (r - s/2)^3 (far), 3 |b| (r + s)^2
 
     void resize(size_t n) {
         for (auto* v : {&dx, &dy, &dz, &r, &inverseR, &s, &bx, &by, &bz, &farR, &farInvR, &farInvR3, &farInvR5,
-                        &farInvR7, &farS, &farBx, &farBy, &farBz, &remainder, &magnitude})
+                        &farInvR7, &farS, &farBx, &farBy, &farBz, &remainder, &innerRemainder, &magnitude})
             v->resize(n);
     }
 };
@@ -360,10 +361,10 @@ std::optional<VariationalPatch> buildVariationalPatch(const VariationalField& fi
     const double* w = field.weights.data();
     // Sums that need no moment are taken in the same pass; one reciprocal
     // serves every power of 1 / r.
-    double r3Sum = 0.0, rSum = 0.0, farInvRSum = 0.0, remainderSum = 0.0, magnitudeSum = 0.0;
+    double remainderSum = 0.0, innerRemainderSum = 0.0, magnitudeSum = 0.0;
     {
         Scratch& q = scratch;
-#pragma omp simd reduction(+ : r3Sum, rSum, farInvRSum, remainderSum, magnitudeSum)
+#pragma omp simd reduction(+ : remainderSum, innerRemainderSum, magnitudeSum)
         for (size_t j = 0; j < n; ++j) {
             const double dx = x0.x() - cx[j], dy = x0.y() - cy[j], dz = x0.z() - cz[j];
             const double r = std::sqrt(dx * dx + dy * dy + dz * dz);
@@ -374,29 +375,48 @@ std::optional<VariationalPatch> buildVariationalPatch(const VariationalField& fi
             q.dy[j] = dy;
             q.dz[j] = dz;
             q.r[j] = r;
-            r3Sum += w[j] * r * r * r;
             q.rWeight[j] = w[j] * r;
-            rSum += w[j] * r;
             q.hessianWeight[j] = w[j] * inv;
             q.farInvR[j] = wFar * inv;
-            farInvRSum += wFar * inv;
             q.farInvR3[j] = wFar * inv * inv2;
             q.farInvR5[j] = wFar * inv * inv2 * inv2;
-            const double gap = far ? r - s : 1.0;
+            // Far centres are at least 1.5 s from x0, so both gaps are positive.
+            const double gap = far ? r - s : 1.0, innerGap = far ? r - 0.5 * s : 1.0;
             remainderSum += std::abs(wFar) / (gap * gap);
+            innerRemainderSum += std::abs(wFar) / (innerGap * innerGap);
             magnitudeSum += std::abs(w[j]) * (r + s) * (r + s) * (r + s);
         }
     }
-    for (size_t j = 0; j < n; ++j)
-        if (scratch.r[j] < nearRadius) {
-            const double r = scratch.r[j];
-            patch.near.push_back({field.centers[j], w[j], r, r > 0 ? 1.0 / r : 0.0});
-        }
+    // The coefficients' own sums go through lanes, as the moments do, so
+    // that each term passes through a known number of additions (their
+    // rounding below), whatever the compiler makes of a reduction.
+    const auto [r3Sum, rSum, farInvRSum] = laneSums<3>(n, [&](auto* acc, auto at) {
+        const auto rw = at(scratch.rWeight.data()), r = at(scratch.r.data());
+        acc[0] += rw * r * r;
+        acc[1] += rw;
+        acc[2] += at(scratch.farInvR.data());
+    });
+    // Through a plain pointer: a thread_local's vector read in the loop
+    // is looked up again after every push_back (a fifth of a model's cost).
+    // Near centres are a handful of thousands: eight distances are compared
+    // at once, and only a block that holds one is looked at one by one.
+    const double* distance = scratch.r.data();
+    for (size_t block = 0; block < n; block += kLanes) {
+        const size_t end = std::min(n, block + kLanes);
+        bool any = false;
+        for (size_t j = block; j < end; ++j) any |= distance[j] < nearRadius;
+        if (!any) continue;
+        for (size_t j = block; j < end; ++j)
+            if (distance[j] < nearRadius) {
+                const double r = distance[j];
+                patch.near.push_back({field.centers[j], w[j], r, r > 0 ? 1.0 / r : 0.0});
+            }
+    }
     // Hermite terms, by the same rule.
     thread_local HermiteScratch hermite;
     const size_t nh = field.gradientCenters.size();
     hermite.resize(nh);
-    double hermiteRemainderSum = 0.0, hermiteMagnitudeSum = 0.0;
+    double hermiteRemainderSum = 0.0, hermiteInnerRemainderSum = 0.0, hermiteMagnitudeSum = 0.0;
     std::array<double, VariationalPatch::kMonomials> hermiteSums{};
     if (nh > 0) {
         HermiteScratch& q = hermite;
@@ -417,8 +437,9 @@ std::optional<VariationalPatch> buildVariationalPatch(const VariationalField& fi
             q.farInvR[j] = inv, q.farInvR3[j] = inv * inv2, q.farInvR5[j] = inv * inv2 * inv2,
             q.farInvR7[j] = inv * inv2 * inv2 * inv2;
             q.farS[j] = mask * sv, q.farBx[j] = mask * bx, q.farBy[j] = mask * by, q.farBz[j] = mask * bz;
-            const double gap = far ? r - s : 1.0;
+            const double gap = far ? r - s : 1.0, innerGap = far ? r - 0.5 * s : 1.0;
             q.remainder[j] = mask * bNorm / (gap * gap * gap);
+            q.innerRemainder[j] = mask * bNorm / (innerGap * innerGap * innerGap);
             q.magnitude[j] = 3.0 * bNorm * (r + s) * (r + s);
         }
         for (size_t j = 0; j < nh; ++j) {
@@ -430,6 +451,7 @@ std::optional<VariationalPatch> buildVariationalPatch(const VariationalField& fi
         }
         accumulateHermiteMonomials(q, hermiteSums);
         hermiteRemainderSum = plainSum(q.remainder);
+        hermiteInnerRemainderSum = plainSum(q.innerRemainder);
         hermiteMagnitudeSum = plainSum(q.magnitude);
     }
 
@@ -466,15 +488,24 @@ std::optional<VariationalPatch> buildVariationalPatch(const VariationalField& fi
         patch.coefficients[n] = (derivative + hermiteSums[n]) * table.inverseFactorial[n];
     }
 
-    // Rounding: every coefficient is a sum of N terms whose sizes the
-    // magnitude sum majorises (with room to spare for the Taylor weights).
+    // Rounding: every coefficient is a sum of terms whose sizes the
+    // magnitude sum majorises (with room to spare for the Taylor weights),
+    // each term rounded in at most M operations and then in the additions
+    // of laneSums: its lane's share of the terms, or the scalar rest, and
+    // the lanes' total.
     const double unitRoundoff = std::numeric_limits<double>::epsilon() / 2;
-    const double rounding =
-        16.0 * double(field.centers.size() + nh + M) * unitRoundoff * (magnitudeSum + hermiteMagnitudeSum);
+    auto additions = [](size_t terms) { return terms / kLanes + 2 * kLanes; };
+    const double rounding = 16.0 * double(additions(n) + additions(nh) + M) * unitRoundoff *
+                            (magnitudeSum + hermiteMagnitudeSum);
     const double s4 = s * s * s * s;
     // Bound on the fifth directional derivative of the far terms' sum, with
-    // each term's r at its nearest to the box.
+    // each term's r at its nearest to the box (and to the inner ball).
     const double fifth = kFifthDerivative * remainderSum + kHermiteFifthDerivative * hermiteRemainderSum;
+    patch.fifthDerivative = fifth;
+    patch.innerFifthDerivative =
+        kFifthDerivative * innerRemainderSum + kHermiteFifthDerivative * hermiteInnerRemainderSum;
+    patch.coefficientRounding = rounding;
+    patch.halfDiagonal = s;
     patch.gradientError = fifth / 24.0 * s4 + 4.0 * rounding / std::max(s, 1e-300);
     patch.hessianError = fifth / 6.0 * s * s * s + 12.0 * rounding / std::max(s * s, 1e-300);
 
@@ -645,6 +676,20 @@ inline double polynomialAndSlope(const std::array<double, VariationalPatch::kMon
 }
 
 }  // namespace
+
+double VariationalPatch::valueErrorWithin(double reach) const {
+    if (!(reach < halfDiagonal)) return valueError;
+    const double fifth = reach <= 0.5 * halfDiagonal ? innerFifthDerivative : fifthDerivative;
+    const double r2 = reach * reach;
+    return std::min(valueError, fifth / 120.0 * r2 * r2 * reach + coefficientRounding + evaluationNoise);
+}
+
+double VariationalPatch::gradientErrorWithin(double reach) const {
+    if (!(reach < halfDiagonal)) return gradientError;
+    const double fifth = reach <= 0.5 * halfDiagonal ? innerFifthDerivative : fifthDerivative;
+    const double r2 = reach * reach;
+    return std::min(gradientError, fifth / 24.0 * r2 * r2 + 4.0 * coefficientRounding / halfDiagonal);
+}
 
 Interval VariationalPatch::rangeOver(const Box3& part) const {
     Vec3 gradient;

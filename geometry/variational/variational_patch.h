@@ -68,6 +68,12 @@ struct VariationalPatch {
     double valueError = 0.0;     ///< |f - model| over the box
     double gradientError = 0.0;  ///< |grad f - grad model| over the box
     double hessianError = 0.0;   ///< ||D^2 f - D^2 model|| over the box
+    /// What the value and gradient errors are made of, so that they can be
+    /// told nearer the expansion point, where Taylor's remainder is far
+    /// smaller: the far terms' fifth-derivative bound over the box and over
+    /// the ball of half its half-diagonal, the coefficients' rounding, and
+    /// the box's half-diagonal.
+    double fifthDerivative = 0.0, innerFifthDerivative = 0.0, coefficientRounding = 0.0, halfDiagonal = 0.0;
     /// Rounding in evaluating the model (included in valueError; the tracer
     /// adds it to the bounds it derives from the other two).
     double evaluationNoise = 0.0;
@@ -100,6 +106,11 @@ struct VariationalPatch {
     Interval rangeOver(const Box3& part) const;
     /// The model and its derivative along `direction` (grad . direction).
     double valueAndSlope(const Vec3& x, const Vec3& direction, double& slope) const;
+    /// |f - model| and |grad f - grad model| at points within `reach` of the
+    /// expansion point: Taylor's remainder falls as reach^5 (reach^4 for the
+    /// gradient), the rounding stays.
+    double valueErrorWithin(double reach) const;
+    double gradientErrorWithin(double reach) const;
 };
 
 /// Centres closer to the box centre than this many half-diagonals are near
