@@ -176,9 +176,11 @@ struct Scratch {
     std::vector<double> rWeight;        // w r (every term)
     std::vector<double> hessianWeight;  // w / r (every term; 0 at r = 0)
     std::vector<double> farInvR, farInvR3, farInvR5;  // w / r^k, far terms only
+    std::vector<uint8_t> isNear;  // 1 for a near term, padded to whole words with 0
 
     void resize(size_t n) {
         for (auto* v : {&dx, &dy, &dz, &r, &rWeight, &hessianWeight, &farInvR, &farInvR3, &farInvR5}) v->resize(n);
+        isNear.assign((n + 7) / 8 * 8, 0);
     }
 };
 
@@ -396,18 +398,20 @@ std::optional<VariationalPatch> buildVariationalPatch(const VariationalField& fi
         acc[1] += rw;
         acc[2] += at(scratch.farInvR.data());
     });
-    // Through a plain pointer: a thread_local's vector read in the loop
-    // is looked up again after every push_back (a fifth of a model's cost).
-    // Near centres are a handful of thousands: eight distances are compared
-    // at once, and only a block that holds one is looked at one by one.
+    // Near centres are a handful of thousands: their flags are read eight
+    // at a time, and only a word that holds one is looked at flag by flag.
+    // Through plain pointers: a thread_local's vector read in the loop is
+    // looked up again after every push_back (a fifth of a model's cost).
+    uint8_t* isNear = scratch.isNear.data();
     const double* distance = scratch.r.data();
-    for (size_t block = 0; block < n; block += kLanes) {
-        const size_t end = std::min(n, block + kLanes);
-        bool any = false;
-        for (size_t j = block; j < end; ++j) any |= distance[j] < nearRadius;
-        if (!any) continue;
-        for (size_t j = block; j < end; ++j)
-            if (distance[j] < nearRadius) {
+#pragma omp simd
+    for (size_t j = 0; j < n; ++j) isNear[j] = distance[j] < nearRadius;
+    for (size_t block = 0; block < n; block += 8) {
+        uint64_t word;
+        std::memcpy(&word, isNear + block, sizeof word);
+        if (word == 0) continue;
+        for (size_t j = block; j < std::min(n, block + 8); ++j)
+            if (isNear[j]) {
                 const double r = distance[j];
                 patch.near.push_back({field.centers[j], w[j], r, r > 0 ? 1.0 / r : 0.0});
             }
