@@ -180,7 +180,9 @@ struct Scratch {
 
     void resize(size_t n) {
         for (auto* v : {&dx, &dy, &dz, &r, &rWeight, &hessianWeight, &farInvR, &farInvR3, &farInvR5}) v->resize(n);
-        isNear.assign((n + 7) / 8 * 8, 0);
+        // The flags of [0, n) are written for every model; the padding stays 0.
+        isNear.resize((n + 7) / 8 * 8);
+        std::fill(isNear.begin() + n, isNear.end(), 0);
     }
 };
 
@@ -681,18 +683,21 @@ inline double polynomialAndSlope(const std::array<double, VariationalPatch::kMon
 
 }  // namespace
 
+double VariationalPatch::fifthDerivativeWithin(double reach) const {
+    return reach <= 0.5 * halfDiagonal ? innerFifthDerivative : fifthDerivative;
+}
+
 double VariationalPatch::valueErrorWithin(double reach) const {
     if (!(reach < halfDiagonal)) return valueError;
-    const double fifth = reach <= 0.5 * halfDiagonal ? innerFifthDerivative : fifthDerivative;
     const double r2 = reach * reach;
-    return std::min(valueError, fifth / 120.0 * r2 * r2 * reach + coefficientRounding + evaluationNoise);
+    return std::min(valueError,
+                    fifthDerivativeWithin(reach) / 120.0 * r2 * r2 * reach + coefficientRounding + evaluationNoise);
 }
 
 double VariationalPatch::gradientErrorWithin(double reach) const {
     if (!(reach < halfDiagonal)) return gradientError;
-    const double fifth = reach <= 0.5 * halfDiagonal ? innerFifthDerivative : fifthDerivative;
     const double r2 = reach * reach;
-    return std::min(gradientError, fifth / 24.0 * r2 * r2 + 4.0 * coefficientRounding / halfDiagonal);
+    return std::min(gradientError, fifthDerivativeWithin(reach) / 24.0 * r2 * r2 + 4.0 * coefficientRounding / halfDiagonal);
 }
 
 Interval VariationalPatch::rangeOver(const Box3& part) const {

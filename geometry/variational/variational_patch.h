@@ -111,6 +111,10 @@ struct VariationalPatch {
     /// gradient), the rounding stays.
     double valueErrorWithin(double reach) const;
     double gradientErrorWithin(double reach) const;
+
+private:
+    /// The fifth-derivative bound that holds within `reach` (< halfDiagonal).
+    double fifthDerivativeWithin(double reach) const;
 };
 
 /// Centres closer to the box centre than this many half-diagonals are near
