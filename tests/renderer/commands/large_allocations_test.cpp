@@ -53,6 +53,22 @@ TEST(LargeAllocations, BlocksOfHugePagesAreAdvisedIntoThem) {
     EXPECT_EQ(large[kBytes / 2], 1);
 }
 
+TEST(LargeAllocations, OverAlignedBlocksAreAdvisedAndAligned) {
+    if (!kHugePageOperatorNew) GTEST_SKIP() << "sanitizer build: operator new is the sanitizer's";
+    if (!transparentHugePagesAvailable()) GTEST_SKIP() << "transparent huge pages are disabled here";
+    struct alignas(64) Line {
+        char bytes[64];
+    };
+    constexpr size_t kLines = (size_t(8) << 20) / sizeof(Line);
+    std::unique_ptr<Line[]> large(new Line[kLines]);
+    EXPECT_EQ(uintptr_t(large.get()) % 64, 0u);
+    const std::string flags = mappingFlags(large.get() + kLines / 2);
+    ASSERT_NE(flags, "") << "no mapping holds the block";
+    EXPECT_NE(flags.find(" hg"), std::string::npos) << flags;
+    large[kLines / 2].bytes[0] = 1;
+    EXPECT_EQ(large[kLines / 2].bytes[0], 1);
+}
+
 int handlerCalls = 0;
 char* volatile escaped = nullptr;  // keeps the compiler from eliding new
 
