@@ -75,7 +75,7 @@ constexpr uint32_t kAnyBlock = UINT32_MAX;
 struct Worker {
     uint32_t block = kAnyBlock;
     CostBuckets<Candidate> queue;
-    std::vector<uint32_t> ringU, kept;
+    std::vector<uint32_t> kept;
     uint32_t generation = 0;  ///< the last mark this worker gave a vertex
     std::vector<Vec3> centroids;  ///< of each new face, those that moved farthest first
 };
@@ -142,9 +142,9 @@ public:
                             deferred_[u] = 1;
                             continue;
                         }
-                        neighbours(u, worker.ringU);
-                        for (uint32_t w : worker.ringU)
+                        forEachNeighbour(worker, u, [&](uint32_t w) {
                             if (interior_[w] && (!seed[w] || u < w)) push(worker, u, w);
+                        });
                     }
                     collapses[b] = drain(worker);
                 });
@@ -156,9 +156,9 @@ public:
         std::fill(mark_.begin(), mark_.end(), 0);
         for (uint32_t u = 0; u < mesh_.vertices.size(); ++u) {
             if (!seed[u] || removedVertex_[u]) continue;
-            neighbours(u, whole.ringU);
-            for (uint32_t w : whole.ringU)
+            forEachNeighbour(whole, u, [&](uint32_t w) {
                 if (!seed[w] || u < w) push(whole, u, w);
+            });
         }
         total += drain(whole);
         total += removeSlivers(whole);
@@ -400,15 +400,19 @@ private:
         return true;
     }
 
-    // The vertices sharing a face with v, sorted, into `out` (reused
-    // buffers: the simplifier asks this for every candidate collapse).
-    void neighbours(uint32_t v, std::vector<uint32_t>& out) const {
-        out.clear();
+    // Calls visit(w) once for each vertex w sharing a face with v, marking
+    // them with a new worker generation: no list to sort (seeding the queues
+    // through sorted lists took 3% of the sphere's adaptive polygonization in
+    // bench/polygonize_throughput; ratio to marching cubes 2.16x -> 2.09x).
+    template <class Visit>
+    void forEachNeighbour(Worker& worker, uint32_t v, Visit visit) const {
+        const uint32_t visited = ++worker.generation;
         for (uint32_t f : facesOf_[v])
             for (uint32_t w : mesh_.triangles[f])
-                if (w != v) out.push_back(w);
-        std::sort(out.begin(), out.end());
-        out.erase(std::unique(out.begin(), out.end()), out.end());
+                if (w != v && mark_[w] != visited) {
+                    mark_[w] = visited;
+                    visit(w);
+                }
     }
 
     // The ends of u-v, the one that moves farther to p first: every face of
@@ -539,10 +543,7 @@ private:
         // Only edges at u changed cost (its quadric and position); other
         // candidates stay queued and are re-validated when popped.
         ++stamp_[u];
-        const uint32_t pushed = ++worker.generation;
-        for (uint32_t f : facesOf_[u])
-            for (uint32_t w : mesh_.triangles[f])
-                if (w != u && mark_[w] != pushed) mark_[w] = pushed, push(worker, u, w);
+        forEachNeighbour(worker, u, [&](uint32_t w) { push(worker, u, w); });
     }
 
     // The queue's key: the quadric error where the collapse would place the
