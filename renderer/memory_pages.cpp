@@ -15,11 +15,17 @@ namespace {
 constexpr int MADV_POPULATE_WRITE = 23;
 #endif
 
-// Blocks up to this size come from the heap and return to it when freed
-// (above it, mmap: the colour buffer of a render larger than 640x480).
-constexpr int kHeapBlockLimit = 4 << 20;
-// The heap's free top is returned to the kernel only above this.
-constexpr int kHeapTrimThreshold = 64 << 20;
+// Blocks up to this size come from the heap and return to it when freed;
+// above it, mmap, and freed blocks go back to the kernel at once. 32 MB is
+// the most glibc accepts. Polygonization's arrays (the simplifier's
+// quadrics and vertex fans, the refiner's faces) are 5 to 20 MB: with 4 MB
+// here every one was fresh pages, at 5-10 us per 4 KB page on a virtual
+// machine; the adaptive sphere of bench/polygonize_throughput touched 6,400
+// fresh pages per run, and 210 with these limits.
+constexpr int kHeapBlockLimit = 32 << 20;
+// The heap's free top is returned to the kernel only above this (at 64 MB
+// the adaptive sphere still touched 1,100 fresh pages per run).
+constexpr int kHeapTrimThreshold = 256 << 20;
 
 // Small buffers are not worth a system call.
 constexpr size_t kMinimumBytes = size_t(1) << 20;
