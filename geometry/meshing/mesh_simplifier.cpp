@@ -242,9 +242,9 @@ private:
             }
             Vec3 position;
             if (!placement(c.u, c.v, position)) continue;
-            const FirstFace first = firstFaceDistance(c.u, c.v, position);
-            if (first == FirstFace::Leaves) continue;
-            if (!collapseIsValid(worker, c.u, c.v, position, first == FirstFace::Within ? 1 : 0)) continue;
+            const uint32_t checked = likeliestToLeaveChecked(c.u, c.v, position);
+            if (checked == kLeaves) continue;
+            if (!collapseIsValid(worker, c.u, c.v, position, checked)) continue;
             collapse(worker, c.u, c.v, position);
             ++collapses;
             failures = 0;
@@ -431,27 +431,39 @@ private:
         return after;
     }
 
-    enum class FirstFace { Leaves, Within, None };
+    static constexpr uint32_t kLeaves = UINT32_MAX, kNoFace = UINT32_MAX - 1;
 
-    // The distance test of the first new face of the end that moves farther
-    // (the faces whose centroids move most), asked before any other test:
-    // on the sphere, most collapses tried fail there. It is the face
-    // collapseIsValid lists first, so that one need not ask it again.
-    FirstFace firstFaceDistance(uint32_t u, uint32_t v, const Vec3& p) const {
-        const auto [far, other] = byMove(u, v, p);
-        for (uint32_t f : facesOf_[far]) {
-            const auto& t = mesh_.triangles[f];
-            if (t[0] == other || t[1] == other || t[2] == other) continue;  // disappears
-            const std::array<Vec3, 3> after = afterCollapse(t, u, v, p);
-            return distanceToSurface((after[0] + after[1] + after[2]) / 3.0) > options_.maxDistance ? FirstFace::Leaves
-                                                                                                   : FirstFace::Within;
-        }
-        return FirstFace::None;
+    // The distance test of the new face likeliest to leave the tolerance,
+    // asked before any other test: on the sphere most collapses tried fail
+    // there. A face of the surface's chords lies about Σ edge² / (18 r)
+    // from a sphere of radius r at its centroid, so the face with the
+    // largest sum of squared edges is taken. Of the sphere's 163k failing
+    // collapses (bench/polygonize_throughput) the first new face of the end
+    // that moves farther caught 72k, and 86k more failed after every
+    // geometric test; this face catches 159k, and 154 fail later.
+    // Returns kLeaves if it fails, else the face tested (kNoFace if no face
+    // remains), which collapseIsValid need not ask again.
+    uint32_t likeliestToLeaveChecked(uint32_t u, uint32_t v, const Vec3& p) const {
+        uint32_t likeliest = kNoFace;
+        double largest = -1.0;
+        Vec3 centroid;
+        for (uint32_t end : {u, v})
+            for (uint32_t f : facesOf_[end]) {
+                const auto& t = mesh_.triangles[f];
+                const uint32_t other = end == u ? v : u;
+                if (t[0] == other || t[1] == other || t[2] == other) continue;  // disappears
+                const std::array<Vec3, 3> after = afterCollapse(t, u, v, p);
+                const double edges = (after[1] - after[0]).squaredNorm() + (after[2] - after[1]).squaredNorm() +
+                                     (after[0] - after[2]).squaredNorm();
+                if (edges > largest) largest = edges, likeliest = f, centroid = (after[0] + after[1] + after[2]) / 3.0;
+            }
+        if (likeliest != kNoFace && distanceToSurface(centroid) > options_.maxDistance) return kLeaves;
+        return likeliest;
     }
 
-    // `checkedCentroids`: how many of the new faces' centroids (in the order
-    // below) are known to be within the tolerance already.
-    bool collapseIsValid(Worker& worker, uint32_t u, uint32_t v, const Vec3& p, size_t checkedCentroids = 0) const {
+    // `checkedFace`: a new face whose centroid is known to be within the
+    // tolerance already.
+    bool collapseIsValid(Worker& worker, uint32_t u, uint32_t v, const Vec3& p, uint32_t checkedFace = kNoFace) const {
         // Link condition: the only common neighbours are the two opposite
         // vertices of the edge's triangles. Neighbours are marked with
         // worker generations (each vertex belongs to one worker per round).
@@ -497,11 +509,11 @@ private:
                 // triangleAspectRatio, with the cross product above
                 const double longest = std::max({e0.squaredNorm(), e1.squaredNorm(), e2.squaredNorm()});
                 worstAfter = std::max(worstAfter, longest / area2 * (std::sqrt(3.0) / 2.0));
-                centroids.push_back((after[0] + after[1] + after[2]) / 3.0);
+                if (f != checkedFace) centroids.push_back((after[0] + after[1] + after[2]) / 3.0);
             }
         }
         if (worstAfter > options_.maxAspectRatio && !(worstAfter < worstBefore)) return false;
-        for (size_t i = checkedCentroids; i < centroids.size(); ++i)
+        for (size_t i = 0; i < centroids.size(); ++i)
             if (distanceToSurface(centroids[i]) > options_.maxDistance) return false;
         return true;
     }
