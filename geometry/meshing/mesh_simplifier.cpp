@@ -287,9 +287,9 @@ private:
             }
             Vec3 position;
             if (!placement(c.u, c.v, position)) continue;
-            const uint32_t checked = likeliestToLeaveChecked(c.u, c.v, position);
-            if (checked == kLeaves) continue;
-            if (!collapseIsValid(worker, c.u, c.v, position, checked)) continue;
+            const PreTest pre = likeliestToLeave(c.u, c.v, position);
+            if (pre.leaves) continue;
+            if (!collapseIsValid(worker, c.u, c.v, position, pre.checked)) continue;
             collapse(worker, c.u, c.v, position);
             ++collapses;
             failures = 0;
@@ -476,22 +476,29 @@ private:
         return after;
     }
 
-    static constexpr uint32_t kLeaves = UINT32_MAX, kNoFace = UINT32_MAX - 1;
+    static constexpr uint32_t kNoFace = UINT32_MAX;
 
-    // The distance test of the new face likeliest to leave the tolerance,
-    // asked before any other test: on the sphere most collapses tried fail
+    // New faces whose centroids were found within the tolerance before the
+    // other tests, or that a collapse leaves the tolerance.
+    struct PreTest {
+        bool leaves = false;
+        std::array<uint32_t, 2> checked = {kNoFace, kNoFace};
+    };
+
+    // The distance tests of the two new faces likeliest to leave the
+    // tolerance, asked before any other test: most collapses tried fail
     // there. A face of the surface's chords lies about Σ edge² / (18 r)
     // from a sphere of radius r at its centroid, so the face with the
-    // largest sum of squared edges is taken. Of the sphere's 163k failing
-    // collapses (bench/polygonize_throughput) the first new face of the end
-    // that moves farther caught 72k, and 86k more failed after every
-    // geometric test; this face catches 159k, and 154 fail later.
-    // Returns kLeaves if it fails, else the face tested (kNoFace if no face
-    // remains), which collapseIsValid need not ask again.
-    uint32_t likeliestToLeaveChecked(uint32_t u, uint32_t v, const Vec3& p) const {
-        uint32_t likeliest = kNoFace;
+    // largest sum of squared edges is asked first; then the first face of
+    // the end that moves farther (whose centroids move most). On the sphere
+    // of bench/polygonize_throughput the second alone caught 72k of 163k
+    // failing collapses, the first alone 159k; on the tangle the first
+    // alone left 43k of 126k to fail after every geometric test.
+    PreTest likeliestToLeave(uint32_t u, uint32_t v, const Vec3& p) const {
+        PreTest result;
+        const uint32_t far = byMove(u, v, p)[0];
         double largest = -1.0;
-        Vec3 centroid;
+        Vec3 centroids[2];
         for (uint32_t end : {u, v})
             for (uint32_t f : facesOf_[end]) {
                 const auto& t = mesh_.triangles[f];
@@ -500,15 +507,23 @@ private:
                 const std::array<Vec3, 3> after = afterCollapse(t, u, v, p);
                 const double edges = (after[1] - after[0]).squaredNorm() + (after[2] - after[1]).squaredNorm() +
                                      (after[0] - after[2]).squaredNorm();
-                if (edges > largest) largest = edges, likeliest = f, centroid = (after[0] + after[1] + after[2]) / 3.0;
+                if (edges > largest) largest = edges, result.checked[0] = f, centroids[0] = (after[0] + after[1] + after[2]) / 3.0;
+                if (end == far && result.checked[1] == kNoFace)
+                    result.checked[1] = f, centroids[1] = (after[0] + after[1] + after[2]) / 3.0;
             }
-        if (likeliest != kNoFace && distanceToSurface(centroid) > options_.maxDistance) return kLeaves;
-        return likeliest;
+        if (result.checked[1] == result.checked[0]) result.checked[1] = kNoFace;
+        for (int k = 0; k < 2; ++k)
+            if (result.checked[k] != kNoFace && distanceToSurface(centroids[k]) > options_.maxDistance) {
+                result.leaves = true;
+                break;
+            }
+        return result;
     }
 
-    // `checkedFace`: a new face whose centroid is known to be within the
+    // `checked`: new faces whose centroids are known to be within the
     // tolerance already.
-    bool collapseIsValid(Worker& worker, uint32_t u, uint32_t v, const Vec3& p, uint32_t checkedFace = kNoFace) const {
+    bool collapseIsValid(Worker& worker, uint32_t u, uint32_t v, const Vec3& p,
+                         std::array<uint32_t, 2> checked = {kNoFace, kNoFace}) const {
         // Link condition: the only common neighbours are the two opposite
         // vertices of the edge's triangles. Neighbours are marked with
         // worker generations (each vertex belongs to one worker per round).
@@ -554,7 +569,7 @@ private:
                 // triangleAspectRatio, with the cross product above
                 const double longest = std::max({e0.squaredNorm(), e1.squaredNorm(), e2.squaredNorm()});
                 worstAfter = std::max(worstAfter, longest / area2 * (std::sqrt(3.0) / 2.0));
-                if (f != checkedFace) centroids.push_back((after[0] + after[1] + after[2]) / 3.0);
+                if (f != checked[0] && f != checked[1]) centroids.push_back((after[0] + after[1] + after[2]) / 3.0);
             }
         }
         if (worstAfter > options_.maxAspectRatio && !(worstAfter < worstBefore)) return false;
