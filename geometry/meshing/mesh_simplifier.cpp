@@ -652,34 +652,56 @@ private:
         if (Candidate c; candidate(a, b, c)) worker.queue.push(c);
     }
 
-    // Drops removed faces and vertices; normals from the field, in parallel
-    // (called inside the task arena).
+    // Drops removed faces and vertices, keeping the order of the rest (the
+    // vertices' is the blocks'); normals from the field. All in parallel
+    // (called inside the task arena): serial, the first-use numbering took
+    // 5 of the sphere's 8 ms here.
     void compact() {
-        std::vector<uint32_t> remap(mesh_.vertices.size(), UINT32_MAX);
+        const size_t n = mesh_.vertices.size(), faces = mesh_.triangles.size();
+        std::vector<uint32_t> vertexIndex(n), faceIndex(faces);
+        // A vertex stays while faces use it; its fan lists them.
+        const size_t vertices = keptIndices(n, [&](size_t v) { return !facesOf_.empty(uint32_t(v)); }, vertexIndex);
+        const size_t kept = keptIndices(faces, [&](size_t f) { return removedFace_[f] == 0; }, faceIndex);
         IndexedMesh out;
-        const size_t faces = size_t(std::count(removedFace_.begin(), removedFace_.end(), 0));
-        out.triangles.reserve(faces);
-        out.vertices.reserve(faces / 2 + 2);  // a closed mesh has about half as many vertices
-        for (uint32_t f = 0; f < mesh_.triangles.size(); ++f) {
-            if (removedFace_[f]) continue;
-            std::array<uint32_t, 3> t;
-            for (int k = 0; k < 3; ++k) {
-                uint32_t& r = remap[mesh_.triangles[f][k]];
-                if (r == UINT32_MAX) {
-                    r = uint32_t(out.vertices.size());
-                    out.vertices.push_back(mesh_.vertices[mesh_.triangles[f][k]]);
-                }
-                t[k] = r;
-            }
-            out.triangles.push_back(t);
-        }
-        out.normals.resize(out.vertices.size());
-        tbb::parallel_for(size_t(0), out.vertices.size(), [&](size_t v) {
+        out.vertices.resize(vertices);
+        out.normals.resize(vertices);
+        out.triangles.resize(kept);
+        tbb::parallel_for(size_t(0), n, [&](size_t v) {
+            if (facesOf_.empty(uint32_t(v))) return;
+            const Vec3& p = mesh_.vertices[v];
             Vec3 g;
-            field_.valueAndGradient(out.vertices[v], g);
-            out.normals[v] = g.norm() > 0 ? Vec3(g.normalized()) : Vec3(0, 1, 0);
+            field_.valueAndGradient(p, g);
+            out.vertices[vertexIndex[v]] = p;
+            out.normals[vertexIndex[v]] = g.norm() > 0 ? Vec3(g.normalized()) : Vec3(0, 1, 0);
+        });
+        tbb::parallel_for(size_t(0), faces, [&](size_t f) {
+            if (removedFace_[f]) return;
+            const auto& t = mesh_.triangles[f];
+            out.triangles[faceIndex[f]] = {vertexIndex[t[0]], vertexIndex[t[1]], vertexIndex[t[2]]};
         });
         mesh_ = std::move(out);
+    }
+
+    // index[i]: how many i' < i are kept, for each kept i; returns how many
+    // are kept. Counts by chunk in parallel, then numbers each chunk from
+    // its offset in parallel.
+    template <class Kept>
+    static size_t keptIndices(size_t count, Kept kept, std::vector<uint32_t>& index) {
+        constexpr size_t kChunk = 16384;
+        const size_t chunks = (count + kChunk - 1) / kChunk;
+        std::vector<size_t> offset(chunks + 1, 0);
+        tbb::parallel_for(size_t(0), chunks, [&](size_t c) {
+            size_t k = 0;
+            for (size_t i = c * kChunk; i < std::min(count, (c + 1) * kChunk); ++i) k += kept(i) ? 1 : 0;
+            offset[c + 1] = k;
+        });
+        for (size_t c = 0; c < chunks; ++c) offset[c + 1] += offset[c];
+        tbb::parallel_for(size_t(0), chunks, [&](size_t c) {
+            uint32_t next = uint32_t(offset[c]);
+            for (size_t i = c * kChunk; i < std::min(count, (c + 1) * kChunk); ++i)
+                if (kept(i)) index[i] = next++;
+        });
+        return offset[chunks];
     }
 
     IndexedMesh& mesh_;
