@@ -16,13 +16,6 @@ namespace isotrace::geometry {
 
 namespace {
 
-// A plane n·p + d = 0 (n of unit length) of weight w as m = √w n and
-// e = √w d.
-struct ScaledPlane {
-    Vec3 m;
-    double e;
-};
-
 // Garland and Heckbert's quadric as its ten distinct entries: the weighted
 // sum of squared distances to planes, error(p) = pᵀAp + 2bᵀp + c.
 struct Quadric {
@@ -30,16 +23,13 @@ struct Quadric {
     // (Quadric() and Quadric{} are zero).
     double a00, a01, a02, a11, a12, a22, b0, b1, b2, c;
 
-    /// The plane n·p + d = 0 (n of unit length) with weight w, given as
-    /// m = √w n and e = √w d: its quadric is m mᵀ, e m, e².
-    static Quadric ofScaledPlane(const ScaledPlane& plane) {
-        const Vec3& m = plane.m;
-        const double e = plane.e;
-        Quadric q;
-        q.a00 = m.x() * m.x(), q.a01 = m.x() * m.y(), q.a02 = m.x() * m.z();
-        q.a11 = m.y() * m.y(), q.a12 = m.y() * m.z(), q.a22 = m.z() * m.z();
-        q.b0 = e * m.x(), q.b1 = e * m.y(), q.b2 = e * m.z();
-        q.c = e * e;
+    /// The plane n·p + d = 0 (n of unit length), weighted.
+    static Quadric ofPlane(const Vec3& n, double d, double weight) {
+        Quadric q{};
+        q.a00 = weight * n.x() * n.x(), q.a01 = weight * n.x() * n.y(), q.a02 = weight * n.x() * n.z();
+        q.a11 = weight * n.y() * n.y(), q.a12 = weight * n.y() * n.z(), q.a22 = weight * n.z() * n.z();
+        q.b0 = weight * d * n.x(), q.b1 = weight * d * n.y(), q.b2 = weight * d * n.z();
+        q.c = weight * d * d;
         return q;
     }
 
@@ -190,14 +180,10 @@ private:
         for (uint32_t f = 0; f < mesh_.triangles.size(); ++f)
             for (uint32_t v : mesh_.triangles[f]) facesOf_.pushBack(v, f);
         aspect_.resize(mesh_.triangles.size());
-        std::vector<ScaledPlane> planes(mesh_.triangles.size());
-        tbb::parallel_for(size_t(0), mesh_.triangles.size(), [&](size_t f) {
-            aspect_[f] = computeAspectRatio(uint32_t(f));
-            planes[f] = scaledPlane(uint32_t(f));
-        });
+        tbb::parallel_for(size_t(0), mesh_.triangles.size(), [&](size_t f) { aspect_[f] = computeAspectRatio(uint32_t(f)); });
         tbb::parallel_for(size_t(0), n, [&](size_t v) {
             Quadric q{};
-            for (uint32_t f : facesOf_[v]) q += Quadric::ofScaledPlane(planes[f]);
+            for (uint32_t f : facesOf_[v]) q += faceQuadric(f);
             quadric_[v] = q;
         });
     }
@@ -411,14 +397,13 @@ private:
         return lengths > 0 && reference.dot(n) >= options_.minFaceNormalCosine * lengths;
     }
 
-    // A face's plane, weighted by its area.
-    ScaledPlane scaledPlane(uint32_t f) const {
+    Quadric faceQuadric(uint32_t f) const {
         const auto& t = mesh_.triangles[f];
         const Vec3 n = (mesh_.vertices[t[1]] - mesh_.vertices[t[0]]).cross(mesh_.vertices[t[2]] - mesh_.vertices[t[0]]);
         const double area2 = n.norm();
-        if (!(area2 > 0)) return {Vec3::Zero(), 0.0};
-        const Vec3 m = n * (std::sqrt(0.5 * area2) / area2);
-        return {m, -m.dot(mesh_.vertices[t[0]])};
+        if (!(area2 > 0)) return Quadric();
+        const Vec3 unit = n / area2;
+        return Quadric::ofPlane(unit, -unit.dot(mesh_.vertices[t[0]]), 0.5 * area2);  // area weighted
     }
 
     double distanceToSurface(const Vec3& p) const { return surfaceDistance(field_, p); }
