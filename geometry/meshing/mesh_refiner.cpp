@@ -407,7 +407,8 @@ private:
     }
 
     // Where to split edge k of t (u the face beyond it): the point of the
-    // surface nearest the midpoint, by Newton steps along the gradient; or,
+    // surface nearest the arc's estimated middle, else nearest the midpoint,
+    // by Newton steps along the gradient; or,
     // where that point would not do (near a crease the gradient jumps and
     // Newton may slide sideways), the surface's crossing of the line through
     // the midpoint along the faces' normal; or the midpoint itself, if
@@ -417,8 +418,10 @@ private:
         const Vec3 &a = mesh_.vertices[v[k]], &b = mesh_.vertices[v[(k + 1) % 3]];
         const double length = (a - b).norm();
         const Vec3 midpoint = 0.5 * (a + b);
-        if (nearestByNewton(arcMidpoint(v[k], v[(k + 1) % 3], midpoint), length, p) &&
-            acceptable(t, k, u, keptInBox(p, u)))
+        const Vec3 arc = arcMidpoint(v[k], v[(k + 1) % 3], midpoint);
+        if (nearestByNewton(arc, length, p) && acceptable(t, k, u, keptInBox(p, u))) return true;
+        // Far from the arc's estimate (large faces, a crease), from the midpoint.
+        if (arc != midpoint && nearestByNewton(midpoint, length, p) && acceptable(t, k, u, keptInBox(p, u)))
             return true;
         Vec3 normal = faceNormal(t), crossing;
         if (u != kNone) normal += faceNormal(u);
