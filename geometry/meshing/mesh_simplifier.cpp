@@ -97,11 +97,22 @@ constexpr size_t kMaxFailuresInARow = 256;
 constexpr double kVerticesPerBlock = 4096.0;
 constexpr int kMaxBlocksPerAxis = 4;
 
+// A point placed on the surface and the field's gradient there.
+struct SurfacePoint {
+    Vec3 position, gradient;
+};
+
+Vec3 unitNormal(const Vec3& gradient) { return gradient.norm() > 0 ? Vec3(gradient.normalized()) : Vec3(0, 1, 0); }
+
 class Simplifier {
 public:
     Simplifier(IndexedMesh& mesh, const FieldProgram& field, const SimplifyOptions& options)
         : mesh_(mesh), field_(field), options_(options), facesOf_(mesh.vertices.size()) {
         const size_t n = mesh.vertices.size();
+        // Normals given with every vertex are kept and moved with it (the
+        // field's, as marching cubes and refinement leave them); otherwise
+        // compact() takes them from the field.
+        if (mesh.normals.size() != n) mesh.normals.clear();
         quadric_.reset(new Quadric[n]);  // written by buildAdjacency
         stamp_.assign(n, 0);
         removedVertex_.assign(n, 0);
@@ -238,7 +249,10 @@ private:
         std::vector<Vec3> vertices(n);
         tbb::parallel_for(size_t(0), n, [&](size_t v) { vertices[number[v]] = mesh_.vertices[v]; });
         mesh_.vertices.swap(vertices);
-        mesh_.normals.clear();  // compact() takes them from the field
+        if (!mesh_.normals.empty()) {
+            tbb::parallel_for(size_t(0), n, [&](size_t v) { vertices[number[v]] = mesh_.normals[v]; });
+            mesh_.normals.swap(vertices);
+        }
         std::vector<uint32_t> place(faces);
         tbb::parallel_for(size_t(0), faces, [&](size_t f) { place[f] = block[mesh_.triangles[f][0]]; });
         sortByKey(place);
@@ -285,12 +299,12 @@ private:
                 worker.queue.clear();
                 break;
             }
-            Vec3 position;
-            if (!placement(c.u, c.v, position)) continue;
-            const PreTest pre = likeliestToLeave(c.u, c.v, position);
+            SurfacePoint point;
+            if (!placement(c.u, c.v, point)) continue;
+            const PreTest pre = likeliestToLeave(c.u, c.v, point.position);
             if (pre.leaves) continue;
-            if (!collapseIsValid(worker, c.u, c.v, position, pre.checked)) continue;
-            collapse(worker, c.u, c.v, position);
+            if (!collapseIsValid(worker, c.u, c.v, point.position, pre.checked)) continue;
+            collapse(worker, c.u, c.v, point);
             ++collapses;
             failures = 0;
         }
@@ -332,9 +346,9 @@ private:
                 // flipped; failing both, the remaining edge is collapsed.
                 auto collapseEdge = [&](int k) {
                     const uint32_t u = t[k], v = t[(k + 1) % 3];
-                    Vec3 position;
-                    if (!placement(u, v, position) || !collapseIsValid(worker, u, v, position)) return false;
-                    collapse(worker, u, v, position);
+                    SurfacePoint point;
+                    if (!placement(u, v, point) || !collapseIsValid(worker, u, v, point.position)) return false;
+                    collapse(worker, u, v, point);
                     return true;
                 };
                 if (collapseEdge(shortest) || flip(t[longest], t[(longest + 1) % 3]) ||
@@ -418,7 +432,7 @@ private:
     // onto the surface by Newton steps along the gradient. Made when an edge
     // is popped: queueing (candidate) asks only the quadric, since every
     // collapse queues all the edges around its vertex.
-    bool placement(uint32_t u, uint32_t v, Vec3& out) const {
+    bool placement(uint32_t u, uint32_t v, SurfacePoint& out) const {
         const Quadric q = quadric_[u] + quadric_[v];
         const Vec3 &pu = mesh_.vertices[u], &pv = mesh_.vertices[v];
         Vec3 best = 0.5 * (pu + pv), x;
@@ -432,8 +446,8 @@ private:
         // to well within the tolerance (the quadric minimum of a flat
         // neighbourhood already is); the last evaluation gives the distance.
         double distance = 0.0;
+        Vec3 g;
         for (int i = 0;; ++i) {
-            Vec3 g;
             const double f = field_.valueAndGradient(best, g);
             const double g2 = g.squaredNorm();
             distance = g2 > 0 ? std::abs(f) / std::sqrt(g2) : std::abs(f);
@@ -441,7 +455,7 @@ private:
             best -= (f / g2) * g;
         }
         if (!best.allFinite() || !(distance <= options_.maxDistance)) return false;
-        out = best;
+        out = {best, g};
         return true;
     }
 
@@ -578,8 +592,9 @@ private:
         return true;
     }
 
-    void collapse(Worker& worker, uint32_t u, uint32_t v, const Vec3& p) {
-        mesh_.vertices[u] = p;
+    void collapse(Worker& worker, uint32_t u, uint32_t v, const SurfacePoint& point) {
+        mesh_.vertices[u] = point.position;
+        if (!mesh_.normals.empty()) mesh_.normals[u] = unitNormal(point.gradient);
         quadric_[u] += quadric_[v];
         removedVertex_[v] = 1;
         std::vector<uint32_t>& kept = worker.kept;
@@ -639,7 +654,8 @@ private:
     }
 
     // Drops removed faces and vertices, keeping the order of the rest (the
-    // vertices' is the blocks'); normals from the field. All in parallel
+    // vertices' is the blocks'); normals kept, or else from the field. All
+    // in parallel
     // (called inside the task arena): serial, the first-use numbering took
     // 5 of the sphere's 8 ms here.
     void compact() {
@@ -652,13 +668,18 @@ private:
         out.vertices.resize(vertices);
         out.normals.resize(vertices);
         out.triangles.resize(kept);
+        const bool normalsKept = !mesh_.normals.empty();
         tbb::parallel_for(size_t(0), n, [&](size_t v) {
             if (facesOf_.empty(uint32_t(v))) return;
             const Vec3& p = mesh_.vertices[v];
-            Vec3 g;
-            field_.valueAndGradient(p, g);
             out.vertices[vertexIndex[v]] = p;
-            out.normals[vertexIndex[v]] = g.norm() > 0 ? Vec3(g.normalized()) : Vec3(0, 1, 0);
+            if (normalsKept) {
+                out.normals[vertexIndex[v]] = mesh_.normals[v];
+            } else {
+                Vec3 g;
+                field_.valueAndGradient(p, g);
+                out.normals[vertexIndex[v]] = unitNormal(g);
+            }
         });
         tbb::parallel_for(size_t(0), faces, [&](size_t f) {
             if (removedFace_[f]) return;
