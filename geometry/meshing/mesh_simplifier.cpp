@@ -244,7 +244,8 @@ private:
             for (uint32_t& k : keyToPlace) k = next[k]++;
         };
         std::vector<uint32_t> block(n), number(n);
-        tbb::parallel_for(size_t(0), n, [&](size_t v) { number[v] = block[v] = blockOf(grid, 0.0, mesh_.vertices[v]); });
+        tbb::parallel_for(size_t(0), n,
+                          [&](size_t v) { number[v] = block[v] = blockOf(grid, 0.0, mesh_.vertices[v]); });
         sortByKey(number);
         std::vector<Vec3> vertices(n);
         tbb::parallel_for(size_t(0), n, [&](size_t v) { vertices[number[v]] = mesh_.vertices[v]; });
@@ -521,9 +522,9 @@ private:
                 const std::array<Vec3, 3> after = afterCollapse(t, u, v, p);
                 const double edges = (after[1] - after[0]).squaredNorm() + (after[2] - after[1]).squaredNorm() +
                                      (after[0] - after[2]).squaredNorm();
-                if (edges > largest) largest = edges, result.checked[0] = f, centroids[0] = (after[0] + after[1] + after[2]) / 3.0;
-                if (end == far && result.checked[1] == kNoFace)
-                    result.checked[1] = f, centroids[1] = (after[0] + after[1] + after[2]) / 3.0;
+                const Vec3 centroid = (after[0] + after[1] + after[2]) / 3.0;
+                if (edges > largest) largest = edges, result.checked[0] = f, centroids[0] = centroid;
+                if (end == far && result.checked[1] == kNoFace) result.checked[1] = f, centroids[1] = centroid;
             }
         if (result.checked[1] == result.checked[0]) result.checked[1] = kNoFace;
         for (int k = 0; k < 2; ++k)
@@ -655,9 +656,8 @@ private:
 
     // Drops removed faces and vertices, keeping the order of the rest (the
     // vertices' is the blocks'); normals kept, or else from the field. All
-    // in parallel
-    // (called inside the task arena): serial, the first-use numbering took
-    // 5 of the sphere's 8 ms here.
+    // in parallel (called inside the task arena): serial, the first-use
+    // numbering took 5 of the sphere's 8 ms here.
     void compact() {
         const size_t n = mesh_.vertices.size(), faces = mesh_.triangles.size();
         std::vector<uint32_t> vertexIndex(n), faceIndex(faces);
