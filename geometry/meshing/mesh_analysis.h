@@ -52,6 +52,12 @@ inline double surfaceDistance(const FieldProgram& field, const Vec3& p, double* 
     return n > 0 ? std::abs(f) / n : std::abs(f);
 }
 
+/// The unit normal a mesh vertex takes from the field's gradient there
+/// (+y where the gradient vanishes).
+inline Vec3 vertexNormal(const Vec3& gradient) {
+    return gradient.norm() > 0 ? Vec3(gradient.normalized()) : Vec3(0, 1, 0);
+}
+
 /// A triangle's longest edge over its shortest altitude, times sqrt(3)/2
 /// (1 for equilateral, infinite for a degenerate triangle).
 double triangleAspectRatio(const Vec3& a, const Vec3& b, const Vec3& c);

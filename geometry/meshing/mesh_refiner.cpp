@@ -564,7 +564,7 @@ private:
     }
 
     uint32_t addVertex(Region& r, const SurfaceSample& p) {
-        const Vec3 normal = p.gradient.norm() > 0 ? Vec3(p.gradient.normalized()) : Vec3(0, 1, 0);
+        const Vec3 normal = vertexNormal(p.gradient);
         if (r.block == kNoBlock) {
             mesh_.vertices.push_back(p.position);
             if (!mesh_.normals.empty()) mesh_.normals.push_back(normal);

@@ -102,8 +102,6 @@ struct SurfacePoint {
     Vec3 position, gradient;
 };
 
-Vec3 unitNormal(const Vec3& gradient) { return gradient.norm() > 0 ? Vec3(gradient.normalized()) : Vec3(0, 1, 0); }
-
 class Simplifier {
 public:
     Simplifier(IndexedMesh& mesh, const FieldProgram& field, const SimplifyOptions& options)
@@ -595,7 +593,7 @@ private:
 
     void collapse(Worker& worker, uint32_t u, uint32_t v, const SurfacePoint& point) {
         mesh_.vertices[u] = point.position;
-        if (!mesh_.normals.empty()) mesh_.normals[u] = unitNormal(point.gradient);
+        if (!mesh_.normals.empty()) mesh_.normals[u] = vertexNormal(point.gradient);
         quadric_[u] += quadric_[v];
         removedVertex_[v] = 1;
         std::vector<uint32_t>& kept = worker.kept;
@@ -678,7 +676,7 @@ private:
             } else {
                 Vec3 g;
                 field_.valueAndGradient(p, g);
-                out.normals[vertexIndex[v]] = unitNormal(g);
+                out.normals[vertexIndex[v]] = vertexNormal(g);
             }
         });
         tbb::parallel_for(size_t(0), faces, [&](size_t f) {
