@@ -14,19 +14,27 @@ void embreeError(void*, RTCError code, const char* message) {
 }
 }  // namespace
 
-Scene::Scene() {
-    device_ = rtcNewDevice(nullptr);
-    if (!device_) throw std::runtime_error("cannot create an Embree device");
-    rtcSetDeviceErrorFunction(device_, embreeError, nullptr);
-}
+Scene::Scene() = default;
 
 Scene::~Scene() {
     for (RTCScene s : shapeScenes_) rtcReleaseScene(s);
     if (top_) rtcReleaseScene(top_);
-    rtcReleaseDevice(device_);
+    if (device_) rtcReleaseDevice(device_);
+}
+
+// Created when first needed, not with the scene: the executable loads
+// Embree while the scene's fields are built (commands/embree_on_demand.cpp).
+RTCDevice Scene::device() const {
+    if (!device_) {
+        device_ = rtcNewDevice(nullptr);
+        if (!device_) throw std::runtime_error("cannot create an Embree device");
+        rtcSetDeviceErrorFunction(device_, embreeError, nullptr);
+    }
+    return device_;
 }
 
 void Scene::commit() {
+    device();  // created now, if nothing asked for it before
     // One Embree scene per shape, shared by every object that places it.
     std::vector<RTCScene> meshScenes, surfaceScenes;
     for (const auto& mesh : meshes) {

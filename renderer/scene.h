@@ -90,7 +90,8 @@ public:
     /// True when something blocks the segment from origin along direction up to tMax.
     bool occluded(const Vec3& origin, const Vec3& direction, double tMax) const;
 
-    RTCDevice device() const { return device_; }
+    /// The Embree device, created on the first call.
+    RTCDevice device() const;
     /// The world bounds of every object (after commit).
     geometry::Box3 bounds() const;
     /// The Embree scene of the shape an object places, in the shape's own
@@ -105,7 +106,7 @@ public:
     }
 
 private:
-    RTCDevice device_ = nullptr;
+    mutable RTCDevice device_ = nullptr;
     RTCScene top_ = nullptr;
     std::vector<RTCScene> shapeScenes_;
 };

@@ -705,6 +705,36 @@ TEST(CommandLine, RendersMergesAndComparesWithoutOpenImageIo) {
     EXPECT_NE(needsIt.output.find("absent.so"), std::string::npos) << needsIt.output;
 }
 
+// Embree is loaded by the executable, not linked (its start-up was half of
+// `isotrace --version`): commands that trace no rays never load it, and a
+// render whose Embree cannot be loaded fails clearly, with exit 2 and no
+// output file. (StartUpLoadsNoEmbree in tests/CMakeLists.txt checks that
+// the executable does not link it.)
+TEST(CommandLine, LoadsEmbreeOnlyToTraceRays) {
+    TemporaryFolder folder;
+    const std::string scene = folder.write("scene.json", kSmallScene);
+    auto withEmbree = [&](const std::string& library, const std::string& arguments) {
+        return isotrace::testing::runShell("ISOTRACE_EMBREE_LIBRARY=" + library + " " ISOTRACE_EXECUTABLE " " + arguments);
+    };
+    const std::string absent = folder.file("absent.so");
+    const auto off = withEmbree(absent, "polygonize " + scene + " --field ball --resolution 16 -o " + folder.file("ball.off"));
+    EXPECT_EQ(off.exitCode, 0) << off.output;
+    const auto render = withEmbree(absent, "render " + scene + " -q -o " + folder.file("ball.exr"));
+    EXPECT_EQ(render.exitCode, 2) << render.output;
+    EXPECT_NE(render.output.find("cannot load Embree (" + absent + ")"), std::string::npos) << render.output;
+    EXPECT_FALSE(std::filesystem::exists(folder.file("ball.exr")));
+    EXPECT_FALSE(std::filesystem::exists(folder.file("ball.png")));
+    // A library that is not Embree is named as such.
+    const auto notEmbree = withEmbree("libz.so.1", "render " + scene + " -q -o " + folder.file("ball.exr"));
+    EXPECT_EQ(notEmbree.exitCode, 2) << notEmbree.output;
+    EXPECT_NE(notEmbree.output.find("libz.so.1 is not Embree 3"), std::string::npos) << notEmbree.output;
+    EXPECT_FALSE(std::filesystem::exists(folder.file("ball.exr")));
+    // Found, the same render works.
+    const auto found = runIsotrace("render " + scene + " -q -o " + folder.file("ball.exr"));
+    EXPECT_EQ(found.exitCode, 0) << found.output;
+    EXPECT_TRUE(std::filesystem::exists(folder.file("ball.exr")));
+}
+
 // Assimp (with Draco) added some 350 page faults to every process start; it
 // is loaded only when a polygon model file is read or a PLY or OBJ written.
 // With its module made unloadable, scenes without meshes still render and
