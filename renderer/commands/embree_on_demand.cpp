@@ -24,6 +24,7 @@
 #include <mutex>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace isotrace {
 
@@ -46,17 +47,29 @@ struct EmbreeFunctions {
 
 EmbreeFunctions embree;
 
-// The library as Debian installs it (libembree-dev's soname), or the file
-// named by ISOTRACE_EMBREE_LIBRARY.
-void loadEmbree() {
+// The file ISOTRACE_EMBREE_LIBRARY names, or else Embree 3 by its soname
+// (wherever the dynamic loader finds it: Debian's libembree-dev) and then
+// where CMake found it at configure time (an Embree built elsewhere).
+void* openEmbree(std::string& file) {
     const char* named = std::getenv("ISOTRACE_EMBREE_LIBRARY");
-    const std::string file = named && *named ? named : "libembree3.so.3";
-    void* library = dlopen(file.c_str(), RTLD_NOW | RTLD_LOCAL);
-    if (!library) {
+    std::vector<std::string> candidates;
+    if (named && *named) candidates = {named};
+    else candidates = {"libembree3.so.3", ISOTRACE_EMBREE_CONFIGURED_FILE};
+    std::string reasons;
+    for (const std::string& candidate : candidates) {
+        if (void* library = dlopen(candidate.c_str(), RTLD_NOW | RTLD_LOCAL)) {
+            file = candidate;
+            return library;
+        }
         const char* reason = dlerror();
-        throw std::runtime_error("cannot load Embree (" + file + "), which tracing rays needs: " +
-                                 (reason ? reason : "unknown error"));
+        reasons += (reasons.empty() ? "" : "; ") + std::string(reason ? reason : candidate + ": unknown error");
     }
+    throw std::runtime_error("cannot load Embree (" + candidates.front() + "), which tracing rays needs: " + reasons);
+}
+
+void loadEmbree() {
+    std::string file;
+    void* library = openEmbree(file);
     EmbreeFunctions found;
 #define ISOTRACE_EMBREE_RESOLVE(name)                                                                      \
     found.name = reinterpret_cast<decltype(&::name)>(dlsym(library, #name));                               \
