@@ -32,7 +32,7 @@ namespace {
 
 #define ISOTRACE_EMBREE_FUNCTIONS(X)                                                                               \
     X(rtcNewDevice) X(rtcReleaseDevice) X(rtcSetDeviceErrorFunction) X(rtcNewScene) X(rtcReleaseScene)             \
-    X(rtcCommitScene) X(rtcSetSceneFlags) X(rtcGetSceneBounds) X(rtcIntersect1) X(rtcOccluded1) X(rtcNewGeometry)  \
+    X(rtcCommitScene) X(rtcGetSceneBounds) X(rtcIntersect1) X(rtcOccluded1) X(rtcNewGeometry)  \
     X(rtcReleaseGeometry) X(rtcCommitGeometry) X(rtcAttachGeometry) X(rtcAttachGeometryByID)                       \
     X(rtcSetSharedGeometryBuffer) X(rtcSetGeometryTransform) X(rtcSetGeometryInstancedScene)                       \
     X(rtcSetGeometryUserPrimitiveCount) X(rtcSetGeometryUserData) X(rtcSetGeometryBoundsFunction)                  \
@@ -125,7 +125,6 @@ void rtcSetDeviceErrorFunction(RTCDevice device, RTCErrorFunction error, void* u
 RTCScene rtcNewScene(RTCDevice device) { return embree.rtcNewScene(device); }
 void rtcReleaseScene(RTCScene scene) { embree.rtcReleaseScene(scene); }
 void rtcCommitScene(RTCScene scene) { embree.rtcCommitScene(scene); }
-void rtcSetSceneFlags(RTCScene scene, RTCSceneFlags flags) { embree.rtcSetSceneFlags(scene, flags); }
 void rtcGetSceneBounds(RTCScene scene, RTCBounds* bounds) { embree.rtcGetSceneBounds(scene, bounds); }
 void rtcIntersect1(RTCScene scene, RTCIntersectContext* context, RTCRayHit* rayhit) {
     embree.rtcIntersect1(scene, context, rayhit);
