@@ -1,14 +1,16 @@
-// Embree, loaded while the program does other work.
+// Embree, loaded when rays are to be traced.
 //
 // Linked in, Embree cost every start of the executable about 5 ms before
 // main (43 MB of library, 168 static constructors, 15,600 relocations, 200
-// page faults at some 20 us each on a virtual machine): 7% of a small
-// Whitted render and half of `isotrace --version`. The executable does not
-// link it (see renderer/CMakeLists.txt). It defines instead the Embree
-// functions the program calls, each a call through a pointer to the
-// library's own, and loads the library with dlopen: in the background from
-// the start of the commands that trace rays, while they parse the command
-// line and the scene and build fields, or else on the first call.
+// page faults at some 20 us each on a virtual machine): half of `isotrace
+// --version`, and all of it wasted for the commands that trace no rays. The
+// executable does not link it (see renderer/CMakeLists.txt). It defines
+// instead the Embree functions the program calls, each a call through a
+// pointer to the library's own, and loads the library with dlopen: in the
+// background from the start of the commands that trace rays, while they
+// parse the command line and the scene and build fields, or else on the
+// first call. (On 2 cores a render gains nothing measurable from the
+// overlap: the load's CPU time has to be spent somewhere.)
 //
 // Every Embree object comes from a device, so only rtcNewDevice waits for
 // the library; the others call through pointers set before it returned,
@@ -32,7 +34,7 @@ namespace {
 
 #define ISOTRACE_EMBREE_FUNCTIONS(X)                                                                               \
     X(rtcNewDevice) X(rtcReleaseDevice) X(rtcSetDeviceErrorFunction) X(rtcNewScene) X(rtcReleaseScene)             \
-    X(rtcCommitScene) X(rtcGetSceneBounds) X(rtcIntersect1) X(rtcOccluded1) X(rtcNewGeometry)  \
+    X(rtcCommitScene) X(rtcGetSceneBounds) X(rtcIntersect1) X(rtcOccluded1) X(rtcNewGeometry)                      \
     X(rtcReleaseGeometry) X(rtcCommitGeometry) X(rtcAttachGeometry) X(rtcAttachGeometryByID)                       \
     X(rtcSetSharedGeometryBuffer) X(rtcSetGeometryTransform) X(rtcSetGeometryInstancedScene)                       \
     X(rtcSetGeometryUserPrimitiveCount) X(rtcSetGeometryUserData) X(rtcSetGeometryBoundsFunction)                  \
