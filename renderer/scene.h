@@ -99,14 +99,23 @@ public:
     RTCScene shapeScene(const SceneObject& object) const {
         switch (object.kind) {
             case SceneObject::Kind::Mesh: return shapeScenes_[object.shape];
-            case SceneObject::Kind::Implicit: return shapeScenes_[meshes.size() + object.shape];
+            case SceneObject::Kind::Implicit:
+                buildSurfaceScene(object.shape);
+                return shapeScenes_[meshes.size() + object.shape];
             case SceneObject::Kind::Discs: break;
         }
         return shapeScenes_[meshes.size() + surfaces.size() + object.shape];
     }
 
 private:
+    /// Implicit objects with no transform are attached to the top scene
+    /// as they are, not instanced.
+    static bool placedAsIs(const SceneObject& object);
+    /// Fills and commits a surface's own scene, once (see commit).
+    void buildSurfaceScene(size_t surface) const;
+
     mutable RTCDevice device_ = nullptr;
+    mutable std::vector<bool> surfaceSceneBuilt_;
     RTCScene top_ = nullptr;
     std::vector<RTCScene> shapeScenes_;
 };

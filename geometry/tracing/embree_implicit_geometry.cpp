@@ -93,21 +93,32 @@ void occludedCallback(const RTCOccludedFunctionNArguments* args) {
     if (offerToFilters(args, *ray, candidate, r.t, rtcFilterOcclusion)) ray->tfar = -std::numeric_limits<float>::infinity();
 }
 
-}  // namespace
-
-unsigned attachImplicitSurface(RTCDevice device, RTCScene scene, ImplicitSurface& surface, unsigned mask) {
+RTCGeometry newImplicitGeometry(RTCDevice device, ImplicitSurface& surface) {
     RTCGeometry geometry = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_USER);
-    surface.setRayMask(mask);
     rtcSetGeometryUserPrimitiveCount(geometry, static_cast<unsigned>(surface.cells().size()));
     rtcSetGeometryUserData(geometry, &surface);
     rtcSetGeometryBoundsFunction(geometry, boundsCallback, nullptr);
     rtcSetGeometryIntersectFunction(geometry, intersectCallback);
     rtcSetGeometryOccludedFunction(geometry, occludedCallback);
-    rtcSetGeometryMask(geometry, mask);
+    rtcSetGeometryMask(geometry, surface.rayMask());
     rtcCommitGeometry(geometry);
+    return geometry;
+}
+
+}  // namespace
+
+unsigned attachImplicitSurface(RTCDevice device, RTCScene scene, ImplicitSurface& surface, unsigned mask) {
+    surface.setRayMask(mask);
+    RTCGeometry geometry = newImplicitGeometry(device, surface);
     const unsigned id = rtcAttachGeometry(scene, geometry);
     rtcReleaseGeometry(geometry);
     return id;
+}
+
+void attachImplicitSurfaceAs(RTCDevice device, RTCScene scene, ImplicitSurface& surface, unsigned id) {
+    RTCGeometry geometry = newImplicitGeometry(device, surface);
+    rtcAttachGeometryByID(scene, geometry, id);
+    rtcReleaseGeometry(geometry);
 }
 
 }  // namespace isotrace::geometry

@@ -15,5 +15,8 @@ namespace isotrace::geometry {
 /// The geometry is committed; the scene is not.
 unsigned attachImplicitSurface(RTCDevice device, RTCScene scene, ImplicitSurface& surface,
                                unsigned mask = 0xFFFFFFFFu);
+/// The same under a given geometry id, with the surface's ray mask as it
+/// stands (an object of a renderer's top scene, placed without an instance).
+void attachImplicitSurfaceAs(RTCDevice device, RTCScene scene, ImplicitSurface& surface, unsigned id);
 
 }  // namespace isotrace::geometry

@@ -87,3 +87,42 @@ TEST(Scene, UnrepresentableRaysMissInsteadOfAborting) {
     EXPECT_FALSE(scene->occluded(Vec3(0, 0, 5), Vec3(INFINITY, 0, 0), 1.0));
     EXPECT_TRUE(scene->intersect({Vec3(0, 0, 5), Vec3(0, 0, -1)}, INFINITY, hit));
 }
+
+// Objects without a transform are attached to the top scene as they are,
+// the others through instances, and a field may be placed both ways: each
+// hit names the object it hit and lands on that object's sphere, with the
+// normal of the sphere there. Analytic truth: ray-sphere distances.
+TEST(Scene, ObjectsPlacedAsTheyAreOrInstancedReportTheirOwnHits) {
+    TemporaryFolder folder;
+    auto scene = loadSceneText(folder, R"({"materials": {"m": {"type": "diffuse"}},
+      "fields": {"ball": {"type": "sphere", "radius": 1}, "small": {"type": "sphere", "center": [0, 3, 0], "radius": 0.5}},
+      "objects": [{"field": "ball", "material": "m"},
+                  {"field": "ball", "material": "m", "transform": {"translate": [4, 0, 0], "scale": 0.5}},
+                  {"field": "small", "material": "m"},
+                  {"field": "small", "material": "m", "transform": {"translate": [-4, -3, 0]}}]})");
+    struct Sphere {
+        Vec3 center;
+        double radius;
+    };
+    const Sphere spheres[4] = {{{0, 0, 0}, 1.0}, {{4, 0, 0}, 0.5}, {{0, 3, 0}, 0.5}, {{-4, 0, 0}, 0.5}};
+    std::mt19937_64 rng(11);
+    std::normal_distribution<double> n;
+    for (int object = 0; object < 4; ++object) {
+        const Sphere& s = spheres[object];
+        for (int trial = 0; trial < 200; ++trial) {
+            // From outside, towards a point inside the sphere's upper half (z > 0).
+            Vec3 inside = 0.5 * s.radius * Vec3(n(rng), n(rng), std::abs(n(rng))).normalized();
+            const Vec3 origin = s.center + Vec3(0, 0, 10);
+            const Vec3 direction = (s.center + inside - origin).normalized();
+            SurfaceHit hit;
+            ASSERT_TRUE(scene->intersect({origin, direction}, INFINITY, hit)) << "object " << object;
+            EXPECT_EQ(hit.object, object);
+            // Entry distance along the ray: the smaller root of |o + t d - c| = r.
+            const Vec3 oc = origin - s.center;
+            const double b = oc.dot(direction), c = oc.squaredNorm() - s.radius * s.radius;
+            const double t = -b - std::sqrt(b * b - c);
+            EXPECT_NEAR(hit.t, t, 1e-4 * s.radius) << "object " << object;
+            EXPECT_GT(hit.geometricNormal.dot((hit.position - s.center).normalized()), 1.0 - 1e-4) << "object " << object;
+        }
+    }
+}
