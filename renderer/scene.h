@@ -95,7 +95,8 @@ public:
     /// The world bounds of every object (after commit).
     geometry::Box3 bounds() const;
     /// The Embree scene of the shape an object places, in the shape's own
-    /// space (after commit): for tracing one object alone.
+    /// space (after commit): for tracing one object alone. A surface's is
+    /// built on the first call (not thread-safe: ask while loading).
     RTCScene shapeScene(const SceneObject& object) const {
         switch (object.kind) {
             case SceneObject::Kind::Mesh: return shapeScenes_[object.shape];
