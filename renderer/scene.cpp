@@ -61,7 +61,7 @@ void Scene::commit() {
     // itself (below): its own scene is built only if asked for (shapeScene).
     std::vector<bool> instanced(surfaces.size(), false);
     for (const SceneObject& o : objects)
-        if (o.kind == SceneObject::Kind::Implicit && !placedAsIs(o)) instanced[o.shape] = true;
+        if (o.kind == SceneObject::Kind::Implicit && !attachedAsIs(o)) instanced[o.shape] = true;
     surfaceSceneBuilt_.assign(surfaces.size(), false);
     for (size_t i = 0; i < surfaces.size(); ++i) {
         RTCScene s = rtcNewScene(device_);
@@ -89,13 +89,13 @@ void Scene::commit() {
     top_ = rtcNewScene(device_);
     for (size_t i = 0; i < objects.size(); ++i) {
         SceneObject& o = objects[i];
-        if (o.kind == SceneObject::Kind::Implicit && placedAsIs(o)) {
+        o.normalFromObject = o.worldFromObject.topLeftCorner<3, 3>().inverse().transpose();
+        o.objectFromWorld = o.worldFromObject.inverse();
+        o.objectFromWorldScale = 1.0 / std::cbrt(std::abs(o.worldFromObject.topLeftCorner<3, 3>().determinant()));
+        if (attachedAsIs(o)) {
             // Without an instance between, a ray skips Embree's instance
             // step: the CSG and tangle Whitted previews render 2-4% faster.
             geometry::attachImplicitSurfaceAs(device_, top_, *surfaces[o.shape], static_cast<unsigned>(i));
-            o.normalFromObject = Mat3::Identity();
-            o.objectFromWorld = Mat4::Identity();
-            o.objectFromWorldScale = 1.0;
             continue;
         }
         RTCGeometry inst = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_INSTANCE);
@@ -108,14 +108,13 @@ void Scene::commit() {
         rtcCommitGeometry(inst);
         rtcAttachGeometryByID(top_, inst, static_cast<unsigned>(i));
         rtcReleaseGeometry(inst);
-        o.normalFromObject = o.worldFromObject.topLeftCorner<3, 3>().inverse().transpose();
-        o.objectFromWorld = o.worldFromObject.inverse();
-        o.objectFromWorldScale = 1.0 / std::cbrt(std::abs(o.worldFromObject.topLeftCorner<3, 3>().determinant()));
     }
     rtcCommitScene(top_);
 }
 
-bool Scene::placedAsIs(const SceneObject& object) { return object.worldFromObject.isIdentity(); }
+bool Scene::attachedAsIs(const SceneObject& object) {
+    return object.kind == SceneObject::Kind::Implicit && object.worldFromObject.isIdentity();
+}
 
 void Scene::buildSurfaceScene(size_t surface) const {
     if (surfaceSceneBuilt_[surface]) return;

@@ -111,7 +111,7 @@ public:
 private:
     /// Implicit objects with no transform are attached to the top scene
     /// as they are, not instanced.
-    static bool placedAsIs(const SceneObject& object);
+    static bool attachedAsIs(const SceneObject& object);
     /// Fills and commits a surface's own scene, once (see commit).
     void buildSurfaceScene(size_t surface) const;
 
