@@ -9,14 +9,15 @@
 #include "geometry/variational/constraints.h"
 #include "support/drilled_cube.h"
 #include "support/same_hits.h"
+#include "support/turned_placement.h"
 
 using namespace isotrace::geometry;
 
 namespace {
 
-void expectSameHits(const MpuField& field, int rays) {
+void expectSameHits(const MpuField& field, int rays, const LeafPlacement& placement = {}) {
     FieldProgram program;
-    program.addLeaf(MpuLeafField{std::make_shared<const MpuField>(field)});
+    program.addLeaf(MpuLeafField{std::make_shared<const MpuField>(field)}, placement);
     isotrace::testing::expectSameHitsAsMarching(program, rays, rays / 10, 10);
     isotrace::testing::expectSameHitsOnGrazingRays(program, rays, rays / 10);
 }
@@ -32,4 +33,11 @@ TEST(MpuCells, AgreeWithMarchingOnAScan) {
 
 TEST(MpuCells, AgreeWithMarchingAcrossSharpEdges) {
     expectSameHits(MpuField::fit(isotrace::testing::sampleDrilledCube(20000, 9)), 1500);
+}
+
+// Parts are clipped in the leaf's frame: a turned, scaled placement moves
+// every group's world box away from its parts' boxes.
+TEST(MpuCells, AgreeWithMarchingWhenTurnedAndScaled) {
+    expectSameHits(MpuField::fit(isotrace::testing::sampleDrilledCube(20000, 9)), 1500,
+                   isotrace::testing::turnedPlacement(0.6, Vec3(0.05, -0.1, 0.02), 1.0));
 }
