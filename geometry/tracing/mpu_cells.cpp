@@ -168,6 +168,25 @@ private:
     bool modelledRoot(const PartBand& plane, const PartModel& m, MpuLocalList locals, const Vec3& o,
                       const Vec3& d, double t0, double t1, double tolerance, bool anyHit, CellTraceResult& r,
                       Vec3& gradient) const {
+        // Most segments a ray meets keep T beyond the part's whole error
+        // (|N - T| <= valueError): N keeps T's sign, and no root is near.
+        // T's range over the segment, from its ends and its vertex, says so
+        // without the errors of the segment's reach or the spans' roots.
+        {
+            const Vec3 y0 = o - plane.point, hd = m.times(d);
+            const double c0 = plane.value + plane.slope.dot(y0) + 0.5 * y0.dot(m.times(y0));
+            const double c1 = plane.slope.dot(d) + y0.dot(hd), c2 = 0.5 * d.dot(hd);
+            auto model = [&](double t) { return c0 + t * (c1 + t * c2); };
+            double lo = std::min(model(t0), model(t1)), hi = std::max(model(t0), model(t1));
+            if (c2 != 0.0) {
+                const double vertex = -c1 / (2.0 * c2);
+                if (vertex > t0 && vertex < t1) {
+                    lo = std::min(lo, model(vertex));
+                    hi = std::max(hi, model(vertex));
+                }
+            }
+            if (lo > m.valueError || hi < -m.valueError) return false;
+        }
         const NearErrors whole = nearErrors(plane, m, o, d, t0, t1);
         return spansRoot(plane, m, locals, o, d, t0, t1, whole.value, whole.slope, 0, 0, true, tolerance, anyHit, r,
                          gradient);
