@@ -111,10 +111,20 @@ public:
         Segment segments[kPartsPerGroup];
         int count = 0;
         const Vec3 inverse = d.cwiseInverse();
+        // Without a zero in the direction, no slab's t is NaN: the clip is
+        // then branch-free (the same result as clipRayToBoxInverse's).
+        const bool finite = inverse.allFinite();
+        auto clip = [&](const Box3& box, double& a, double& b) {
+            if (!finite) return clipRayToBoxInverse(box, o, inverse, a, b);
+            const Vec3 lo = (box.lower - o).cwiseProduct(inverse), hi = (box.upper - o).cwiseProduct(inverse);
+            a = std::max(a, lo.cwiseMin(hi).maxCoeff());
+            b = std::min(b, lo.cwiseMax(hi).minCoeff());
+            return a <= b;
+        };
         for (uint32_t i = group.first; i < group.first + group.count; ++i) {
             const PartBounds& bounds = bounds_[i];
             double a = t0, b = t1, enter, leave;
-            if (!clipRayToBoxInverse(bounds.box, o, inverse, a, b) || !bounds.band.span(o, d, enter, leave)) continue;
+            if (!clip(bounds.box, a, b) || !bounds.band.span(o, d, enter, leave)) continue;
             a = std::max(a, enter);
             b = std::min(b, leave);
             if (!(b >= a)) continue;
