@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <optional>
+#include <stdexcept>
 #include <vector>
 
 #include "geometry/pointsets/mpu_numerator_model.h"
@@ -462,6 +463,8 @@ std::optional<CellAcceleration> MpuCellAccelerator::accelerate(const FieldProgra
     std::vector<uint32_t> locals, touching;
     // Parts [from, to) as a group, if any.
     auto addGroup = [&](size_t from, size_t to) {
+        // The tracer's scan keeps a group's segments in an array of this size.
+        if (to - from > kPartsPerGroup) throw std::logic_error("MpuCellAccelerator: a group larger than allowed");
         if (to > from) groups.push_back({uint32_t(from), uint32_t(to - from)});
     };
     // A box split in eight whose children made more parts than a group
