@@ -50,9 +50,8 @@ class CellTracer {
 public:
     virtual ~CellTracer() = default;
     /// First root along origin + t direction for t in [t0, t1], a segment
-    /// already clipped to the part's box (unless CellAcceleration::
-    /// clipsToParts); `band` is the part's (CellAcceleration::bands;
-    /// infinite when the accelerator gave none).
+    /// already clipped to the part's box; `band` is the part's
+    /// (CellAcceleration::bands; infinite when the accelerator gave none).
     virtual CellTraceResult trace(uint32_t part, const PartBand& band, const Vec3& origin, const Vec3& direction,
                                   double t0, double t1, const TraceSettings& settings) const = 0;
 };
@@ -61,10 +60,6 @@ struct CellAcceleration {
     std::unique_ptr<const CellTracer> tracer;
     std::vector<Box3> parts;  ///< world boxes within the cell, indexed as trace()'s `part`
     std::vector<PartBand> bands;  ///< one per part, or none
-    /// The tracer clips each ray to what its part holds itself: it is given
-    /// the caller's whole segment, not one clipped to the part's box, and no
-    /// band (`parts` then only guide Embree).
-    bool clipsToParts = false;
 };
 
 // Accelerators work in their leaf's frame (an affine map keeps a ray's t):

@@ -214,7 +214,6 @@ ImplicitSurface::ImplicitSurface(FieldProgram field, const ImplicitSurfaceOption
         }
         const auto tracer = static_cast<int32_t>(tracers_.size());
         tracers_.push_back(std::move(b.acceleration->tracer));
-        tracerClipsToParts_.push_back(b.acceleration->clipsToParts);
         for (uint32_t part = 0; part < b.acceleration->parts.size(); ++part) {
             SurfaceCell cell = b.cell;
             cell.box = b.acceleration->parts[part];
@@ -224,8 +223,6 @@ ImplicitSurface::ImplicitSurface(FieldProgram field, const ImplicitSurfaceOption
             cells_.push_back(cell);
         }
     }
-    routes_.reserve(cells_.size());
-    for (const SurfaceCell& cell : cells_) routes_.push_back({cell.tracer, cell.part});
 }
 
 size_t ImplicitSurface::acceleratedCellCount() const {
@@ -234,32 +231,23 @@ size_t ImplicitSurface::acceleratedCellCount() const {
     return n;
 }
 
-namespace {
-const PartBand kNoBand;  ///< infinite: what a tracer that clips to its own parts is given
-}  // namespace
-
 TraceResult ImplicitSurface::intersectCell(uint32_t index, const Vec3& origin, const Vec3& direction, double tNear,
                                            double tFar, bool anyHit) const {
-    const CellRoute route = routes_[index];
+    const SurfaceCell& cell = cells_[index];
     double t0 = tNear, t1 = tFar;
-    // The cell itself is read only where its box clips the ray or the
-    // general tracer marches it.
-    const bool clipsItself = route.tracer >= 0 && tracerClipsToParts_[route.tracer];
-    const SurfaceCell* cell = clipsItself ? nullptr : &cells_[index];
-    if (cell && !clipRayToBox(cell->box, origin, direction, t0, t1)) return {};
+    if (!clipRayToBox(cell.box, origin, direction, t0, t1)) return {};
+    const FieldProgram& program = programs_[cell.program];
     TraceResult r;
     TraceSettings settings = settings_;
     settings.anyHit = anyHit;
-    if (route.tracer < 0) {
-        r = sphereTrace(programs_[cell->program], cell->lipschitz, origin, direction, t0, t1, settings);
+    if (cell.tracer < 0) {
+        r = sphereTrace(program, cell.lipschitz, origin, direction, t0, t1, settings);
     } else {
-        const CellTraceResult a =
-            tracers_[route.tracer]->trace(route.part, cell ? cell->band : kNoBand, origin, direction, t0, t1, settings);
+        const CellTraceResult a = tracers_[cell.tracer]->trace(cell.part, cell.band, origin, direction, t0, t1, settings);
         r = a;
         if (!a.complete) {
             // The accelerator gave up: the general tracer settles the rest.
-            const SurfaceCell& c = cells_[index];
-            const TraceResult rest = sphereTrace(programs_[c.program], c.lipschitz, origin, direction, a.t, a.restEnd, settings);
+            const TraceResult rest = sphereTrace(program, cell.lipschitz, origin, direction, a.t, a.restEnd, settings);
             r.hit = rest.hit;
             r.t = rest.t;
             r.steps += rest.steps;

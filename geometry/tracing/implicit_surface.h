@@ -97,17 +97,8 @@ private:
     Box3 bounds_;
     Box3 refinementRoot_;
     std::vector<SurfaceCell> cells_;
-    /// Per cell, its tracer and part (a copy of the cell's, 8 bytes): a ray
-    /// offered a cell whose tracer clips rays to its parts itself reads
-    /// this and not the cell, one cache miss fewer on scenes of many cells.
-    struct CellRoute {
-        int32_t tracer = -1;
-        uint32_t part = 0;
-    };
-    std::vector<CellRoute> routes_;
     std::vector<FieldProgram> programs_;
     std::vector<std::unique_ptr<const CellTracer>> tracers_;
-    std::vector<uint8_t> tracerClipsToParts_;  ///< parallel to tracers_ (CellAcceleration::clipsToParts)
     TraceSettings settings_;
     double globalLipschitz_ = 0.0;
 };

@@ -4,7 +4,6 @@
 #include <cmath>
 #include <limits>
 #include <optional>
-#include <stdexcept>
 #include <vector>
 
 #include "geometry/pointsets/mpu_numerator_model.h"
@@ -30,12 +29,6 @@ constexpr int kMaxSplits = 2;
 // exact search takes them, tighter, loading grows for little.
 constexpr double kModelTolerance = 0.1;
 constexpr int kMaxModelSplits = 4;
-// Embree is offered groups of up to this many neighbouring parts (siblings
-// in the octree of splits), and the tracer scans a group's parts itself:
-// a 37k-vertex model carves 850,000 parts, whose boxes, bands and models,
-// scattered over 200 MB, cost a ray a cache miss per part it was offered,
-// and Embree's tree over them twice its time on the model's triangles.
-constexpr uint32_t kPartsPerGroup = 8;
 
 // What a part's model adds to its centre, value and gradient (the model's
 // own): the Hessian's upper triangle (xx xy xz yy yz zz) and the errors.
@@ -59,27 +52,18 @@ struct PartModel {
 };
 
 // A part: its locals and the rest of its model of N, fitted over the box it
-// was carved as (about that box's centre).
+// was carved as (about that box's centre); its box, shrunk to where the
+// model may hold zero, is ImplicitSurface's (and the tracer's leafBoxes_
+// where the leaf's frame is not the world's). The model's value and
+// gradient at the centre are the part's PartBand (kept by ImplicitSurface
+// beside the part's box): the surface lies where |L| <= band, L the model's
+// tangent plane at the centre and band its error plus the reach of its
+// curvature, a slab a ray crosses in closed form, so rays that miss it read
+// nothing here.
 struct MpuPart {
     uint32_t first = 0, count = 0;
     uint32_t singles = 0;  ///< the list's single-piece locals, which come first
     PartModel model;
-};
-
-// What a ray scanning a group reads of each of its parts first: the part's
-// box, shrunk to where the model may hold zero (in the leaf's frame), and
-// its band. The model's value and gradient at the centre make the band: the
-// surface lies where |L| <= halfWidth, L the model's tangent plane at the
-// centre and halfWidth its error plus the reach of its curvature, a slab a
-// ray crosses in closed form, so rays that miss it read no model.
-struct PartBounds {
-    Box3 box;
-    PartBand band;
-};
-
-// A group's parts: parts_[first, first + count), neighbours in memory.
-struct PartGroup {
-    uint32_t first = 0, count = 0;
 };
 
 // Where a ray crosses a part's band, solving N exactly as a polynomial
@@ -93,62 +77,32 @@ struct PartGroup {
 class MpuCellTracer final : public CellTracer {
 public:
     MpuCellTracer(std::shared_ptr<const MpuField> field, const LeafPlacement& placement, std::vector<MpuPart> parts,
-                  std::vector<PartBounds> bounds, std::vector<PartGroup> groups, std::vector<uint32_t> locals)
-        : field_(std::move(field)), placement_(placement), parts_(std::move(parts)), bounds_(std::move(bounds)),
-          groups_(std::move(groups)), locals_(std::move(locals)) {}
+                  std::vector<Box3> leafBoxes, std::vector<uint32_t> locals)
+        : field_(std::move(field)), placement_(placement), parts_(std::move(parts)),
+          leafBoxes_(placement.identity ? std::vector<Box3>() : std::move(leafBoxes)), locals_(std::move(locals)) {}
 
-    // `index` names a group; its parts are searched in the order the ray
-    // meets them (their boxes do not overlap), so the first hit is the
-    // nearest.
-    CellTraceResult trace(uint32_t index, const PartBand&, const Vec3& origin, const Vec3& direction, double t0,
+    CellTraceResult trace(uint32_t index, const PartBand& band, const Vec3& origin, const Vec3& direction, double t0,
                           double t1, const TraceSettings& settings) const override {
         Vec3 o, d;
         rayInLeafFrame(placement_, origin, direction, o, d);
-        const PartGroup group = groups_[index];
-        struct Segment {
-            double a, b;
-            uint32_t part;
-        };
-        Segment segments[kPartsPerGroup];
-        int count = 0;
-        const Vec3 inverse = d.cwiseInverse();
-        // Without a zero in the direction, no slab's t is NaN: the clip is
-        // then branch-free (the same result as clipRayToBoxInverse's).
-        const bool finite = inverse.allFinite();
-        auto clip = [&](const Box3& box, double& a, double& b) {
-            if (!finite) return clipRayToBoxInverse(box, o, inverse, a, b);
-            const Vec3 lo = (box.lower - o).cwiseProduct(inverse), hi = (box.upper - o).cwiseProduct(inverse);
-            a = std::max(a, lo.cwiseMin(hi).maxCoeff());
-            b = std::min(b, lo.cwiseMax(hi).minCoeff());
-            return a <= b;
-        };
-        for (uint32_t i = group.first; i < group.first + group.count; ++i) {
-            const PartBounds& bounds = bounds_[i];
-            double a = t0, b = t1, enter, leave;
-            if (!clip(bounds.box, a, b) || !bounds.band.span(o, d, enter, leave)) continue;
-            a = std::max(a, enter);
-            b = std::min(b, leave);
-            if (!(b >= a)) continue;
-            int k = count++;
-            for (; k > 0 && segments[k - 1].a > a; --k) segments[k] = segments[k - 1];
-            segments[k] = {a, b, i};
-        }
+        if (!placement_.identity && !clipRayToBox(leafBoxes_[index], o, d, t0, t1)) return {};
+        // Where the ray is within the band of the plane: |alpha + beta t| <= band.
+        double enter, leave;
+        if (!band.span(o, d, enter, leave)) return {};
+        t0 = std::max(t0, enter);
+        t1 = std::min(t1, leave);
         CellTraceResult r;
         r.steps = 1;
+        if (!(t1 >= t0)) return r;
+        const MpuPart& part = parts_[index];
+        const MpuLocalList locals(std::span<const uint32_t>(locals_.data() + part.first, part.count), part.singles);
         const double tolerance = settings.epsilon / direction.norm();
-        for (int k = 0; k < count; ++k) {
-            const Segment& s = segments[k];
-            const MpuPart& part = parts_[s.part];
-            const MpuLocalList locals(std::span<const uint32_t>(locals_.data() + part.first, part.count), part.singles);
-            Vec3 gradient;
-            if (!modelledRoot(bounds_[s.part].band, part.model, locals, o, d, s.a, s.b, tolerance, settings.anyHit, r,
-                              gradient))
-                continue;
-            r.hit = true;
-            r.gradientKnown = true;
-            r.gradient = worldGradient(placement_, gradient);
-            return r;
-        }
+        Vec3 gradient;
+        const bool hit = modelledRoot(band, part.model, locals, o, d, t0, t1, tolerance, settings.anyHit, r, gradient);
+        if (!hit) return r;
+        r.hit = true;
+        r.gradientKnown = true;
+        r.gradient = worldGradient(placement_, gradient);
         return r;
     }
 
@@ -435,8 +389,9 @@ private:
     std::shared_ptr<const MpuField> field_;
     LeafPlacement placement_;
     std::vector<MpuPart> parts_;
-    std::vector<PartBounds> bounds_;  ///< parallel to parts_
-    std::vector<PartGroup> groups_;
+    /// Each part's box in the leaf's frame, where that is not the world's
+    /// (the world box, which the caller clips to, serves otherwise).
+    std::vector<Box3> leafBoxes_;
     std::vector<uint32_t> locals_;
 };
 
@@ -458,32 +413,9 @@ std::optional<CellAcceleration> MpuCellAccelerator::accelerate(const FieldProgra
     if (!field.bounds().contains(leafBox)) return std::nullopt;
 
     std::vector<MpuPart> parts;
-    std::vector<PartBounds> bounds;  // parallel to parts, in the leaf's frame
-    std::vector<PartGroup> groups;
+    std::vector<Box3> boxes;      // parallel to parts, in the leaf's frame
+    std::vector<PartBand> bands;  // parallel to parts
     std::vector<uint32_t> locals, touching;
-    // Parts [from, to) as a group, if any.
-    auto addGroup = [&](size_t from, size_t to) {
-        // The tracer's scan keeps a group's segments in an array of this size.
-        if (to - from > kPartsPerGroup) throw std::logic_error("MpuCellAccelerator: a group larger than allowed");
-        if (to > from) groups.push_back({uint32_t(from), uint32_t(to - from)});
-    };
-    // A box split in eight whose children made more parts than a group
-    // holds: each child's parts are grouped apart (a child with too many
-    // has grouped its own), runs of small neighbours together. `ends[k]`
-    // is where child k's parts end (ends[0], where the first begins).
-    auto groupChildren = [&](const size_t (&ends)[9]) {
-        size_t start = ends[0];
-        for (int k = 0; k < 8; ++k) {
-            if (ends[k + 1] - ends[k] > kPartsPerGroup) {
-                addGroup(start, ends[k]);
-                start = ends[k + 1];
-            } else if (ends[k + 1] - start > kPartsPerGroup) {
-                addGroup(start, ends[k]);
-                start = ends[k];
-            }
-        }
-        addGroup(start, ends[8]);
-    };
     // A part over `b` whose locals are locals[first, first + count) (its
     // ancestor's list, shared by the parts carved from it): modelled where
     // its model is accurate enough, split while it is not; at the deepest
@@ -533,16 +465,12 @@ std::optional<CellAcceleration> MpuCellAccelerator::accelerate(const FieldProgra
         if (!accurate(*model) && splits < kMaxModelSplits) {
             MpuLocalColumns& within = resolvedAt[splits + 1];
             within.assignResolved(field, resolved, (resolved ? resolved : &columns)->sharp(), *model);
-            size_t ends[9] = {parts.size()};
-            for (int k = 0; k < 8; ++k) {
-                self(self, b.octant(k), splits + 1, first, count, &*model, &within);
-                ends[k + 1] = parts.size();
-            }
-            if (ends[8] - ends[0] > kPartsPerGroup) groupChildren(ends);
+            for (int k = 0; k < 8; ++k) self(self, b.octant(k), splits + 1, first, count, &*model, &within);
             return;
         }
-        // The box shrunk, two halvings deep, to where the model's range may
-        // hold zero: rays that pass its corners read no more of the part.
+        // Embree is offered the box shrunk, two halvings deep, to where the
+        // model's range may hold zero: rays that pass its corners never
+        // call the tracer.
         const MpuNumeratorModel& m = *model;
         const Box3 partBox = shrunkToSurface(b, [&m](const Box3& sub) {
             Vec3 slope;
@@ -551,7 +479,8 @@ std::optional<CellAcceleration> MpuCellAccelerator::accelerate(const FieldProgra
             return Interval{t.lo - m.valueError, t.hi + m.valueError};
         });
         if (partBox.isEmpty()) return;
-        bounds.push_back({partBox, {b.center(), m.gradient, m.value, bandOf(m)}});
+        boxes.push_back(partBox);
+        bands.push_back({b.center(), m.gradient, m.value, bandOf(m)});
         part.model = PartModel(m);
         part.first = first;
         part.count = count;
@@ -573,23 +502,14 @@ std::optional<CellAcceleration> MpuCellAccelerator::accelerate(const FieldProgra
         columns.assign(field, touching);
         keep(keep, b, splits, first, count, nullptr, nullptr);
         if (parts.size() == kept) locals.resize(first);  // no part holds surface
-        if (parts.size() - kept <= kPartsPerGroup) addGroup(kept, parts.size());
     };
     carve(carve, leafBox, 0);
 
-    // Embree is offered each group's box: the union of its parts'.
-    std::vector<Box3> groupBoxes;
-    groupBoxes.reserve(groups.size());
-    for (const PartGroup& g : groups) {
-        Box3 around;
-        for (uint32_t i = g.first; i < g.first + g.count; ++i) around.extend(bounds[i].box);
-        groupBoxes.push_back(around);
-    }
     CellAcceleration a;
-    a.parts = worldPartBoxes(placement, groupBoxes, box);
-    a.clipsToParts = true;
-    a.tracer = std::make_unique<MpuCellTracer>(mpu->field, placement, std::move(parts), std::move(bounds),
-                                               std::move(groups), std::move(locals));
+    a.parts = worldPartBoxes(placement, boxes, box);
+    a.bands = std::move(bands);
+    a.tracer = std::make_unique<MpuCellTracer>(mpu->field, placement, std::move(parts), std::move(boxes),
+                                               std::move(locals));
     return a;
 }
 

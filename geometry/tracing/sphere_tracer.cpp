@@ -12,7 +12,19 @@ inline bool differentSigns(double a, double b) { return (a < 0) != (b < 0); }
 }  // namespace
 
 bool clipRayToBox(const Box3& box, const Vec3& origin, const Vec3& direction, double& tEnter, double& tExit) {
-    return clipRayToBoxInverse(box, origin, direction.cwiseInverse(), tEnter, tExit);
+    for (int axis = 0; axis < 3; ++axis) {
+        const double inv = 1.0 / direction[axis];
+        double t0 = (box.lower[axis] - origin[axis]) * inv;
+        double t1 = (box.upper[axis] - origin[axis]) * inv;
+        if (std::isnan(t0) || std::isnan(t1)) {  // parallel ray on a slab plane
+            if (origin[axis] < box.lower[axis] || origin[axis] > box.upper[axis]) return false;
+            continue;
+        }
+        if (t0 > t1) std::swap(t0, t1);
+        tEnter = std::max(tEnter, t0);
+        tExit = std::min(tExit, t1);
+    }
+    return tEnter <= tExit;
 }
 
 double refineRoot(const FieldProgram& field, const Vec3& origin, const Vec3& direction, double ta, double fa,

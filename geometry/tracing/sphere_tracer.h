@@ -6,7 +6,6 @@
 // slow, robust reference (and the fallback when a march runs out of steps).
 #pragma once
 
-#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -58,24 +57,6 @@ double refineRoot(const FieldProgram& field, const Vec3& origin, const Vec3& dir
 
 /// Entry and exit parameters of a ray in a box (empty when tEnter > tExit).
 bool clipRayToBox(const Box3& box, const Vec3& origin, const Vec3& direction, double& tEnter, double& tExit);
-
-/// The same with the direction's componentwise inverse given, for a ray
-/// clipped to many boxes (the same result: clipRayToBox inverts too).
-inline bool clipRayToBoxInverse(const Box3& box, const Vec3& origin, const Vec3& inverseDirection, double& tEnter,
-                                double& tExit) {
-    for (int axis = 0; axis < 3; ++axis) {
-        double t0 = (box.lower[axis] - origin[axis]) * inverseDirection[axis];
-        double t1 = (box.upper[axis] - origin[axis]) * inverseDirection[axis];
-        if (std::isnan(t0) || std::isnan(t1)) {  // parallel ray on a slab plane
-            if (origin[axis] < box.lower[axis] || origin[axis] > box.upper[axis]) return false;
-            continue;
-        }
-        if (t0 > t1) std::swap(t0, t1);
-        tEnter = std::max(tEnter, t0);
-        tExit = std::min(tExit, t1);
-    }
-    return tEnter <= tExit;
-}
 
 /// Where a ray is within a slab around a plane: the span [enter, leave] of t
 /// with |alpha + beta t| <= band (the plane's value along the ray); the whole
