@@ -35,8 +35,8 @@ TEST(MpuCells, AgreeWithMarchingAcrossSharpEdges) {
     expectSameHits(MpuField::fit(isotrace::testing::sampleDrilledCube(20000, 9)), 1500);
 }
 
-// Parts are clipped in the leaf's frame: a turned, scaled placement moves
-// every group's world box away from its parts' boxes.
+// Parts are clipped in the leaf's frame: under a turned, scaled placement a
+// part's world box (around the turned part) holds more than the part.
 TEST(MpuCells, AgreeWithMarchingWhenTurnedAndScaled) {
     expectSameHits(MpuField::fit(isotrace::testing::sampleDrilledCube(20000, 9)), 1500,
                    isotrace::testing::turnedPlacement(0.6, Vec3(0.05, -0.1, 0.02), 1.0));
