@@ -138,16 +138,13 @@ private:
         // T's range over the segment, from its ends and its vertex, says so
         // without the errors of the segment's reach or the spans' roots.
         {
-            const Vec3 y0 = o - plane.point, hd = m.times(d);
-            const double c0 = plane.value + plane.slope.dot(y0) + 0.5 * y0.dot(m.times(y0));
-            const double c1 = plane.slope.dot(d) + y0.dot(hd), c2 = 0.5 * d.dot(hd);
-            auto model = [&](double t) { return c0 + t * (c1 + t * c2); };
-            double lo = std::min(model(t0), model(t1)), hi = std::max(model(t0), model(t1));
-            if (c2 != 0.0) {
-                const double vertex = -c1 / (2.0 * c2);
+            const ModelAlongRay T(plane, m, o, d);
+            double lo = std::min(T(t0), T(t1)), hi = std::max(T(t0), T(t1));
+            if (T.c2 != 0.0) {
+                const double vertex = -T.c1 / (2.0 * T.c2);
                 if (vertex > t0 && vertex < t1) {
-                    lo = std::min(lo, model(vertex));
-                    hi = std::max(hi, model(vertex));
+                    lo = std::min(lo, T(vertex));
+                    hi = std::max(hi, T(vertex));
                 }
             }
             if (lo > m.valueError || hi < -m.valueError) return false;
@@ -156,6 +153,18 @@ private:
         return spansRoot(plane, m, locals, o, d, t0, t1, whole.value, whole.slope, 0, 0, true, tolerance, anyHit, r,
                          gradient);
     }
+
+    // The part's model T along the ray: c0 + c1 t + c2 t^2.
+    struct ModelAlongRay {
+        double c0, c1, c2;
+        ModelAlongRay(const PartBand& plane, const PartModel& m, const Vec3& o, const Vec3& d) {
+            const Vec3 y0 = o - plane.point, hd = m.times(d);
+            c0 = plane.value + plane.slope.dot(y0) + 0.5 * y0.dot(m.times(y0));
+            c1 = plane.slope.dot(d) + y0.dot(hd);
+            c2 = 0.5 * d.dot(hd);
+        }
+        double operator()(double t) const { return c0 + t * (c1 + t * c2); }
+    };
 
     // The model's errors over the ray's segment [a, b]: within distance r of
     // the centre Taylor's remainder is M3 r^3 / 6 (slope: M3 r^2 / 2), and a
@@ -182,12 +191,10 @@ private:
                    const Vec3& d, double t0, double t1, double e, double slopeErrorPerUnit, int outerLeft,
                    int outerRight, bool mayNarrow, double tolerance, bool anyHit, CellTraceResult& r,
                    Vec3& gradient) const {
-        // T along the ray: c0 + c1 t + c2 t^2.
-        const Vec3 y0 = o - plane.point, hd = m.times(d);
-        const double c0 = plane.value + plane.slope.dot(y0) + 0.5 * y0.dot(m.times(y0));
-        const double c1 = plane.slope.dot(d) + y0.dot(hd), c2 = 0.5 * d.dot(hd);
+        const ModelAlongRay T(plane, m, o, d);
+        const double c0 = T.c0, c1 = T.c1, c2 = T.c2;
         const double slopeError = slopeErrorPerUnit * d.norm();
-        auto model = [&](double t) { return c0 + t * (c1 + t * c2); };
+        auto model = [&](double t) { return T(t); };
         auto rootBetween = [&](double a, double b) {
             r.t = 0.5 * (a + b);
             gradient = plane.slope + m.times(o + r.t * d - plane.point);
