@@ -139,7 +139,8 @@ private:
         // without the errors of the segment's reach or the spans' roots.
         {
             const ModelAlongRay T(plane, m, o, d);
-            double lo = std::min(T(t0), T(t1)), hi = std::max(T(t0), T(t1));
+            const double at0 = T(t0), at1 = T(t1);
+            double lo = std::min(at0, at1), hi = std::max(at0, at1);
             if (T.c2 != 0.0) {
                 const double vertex = -T.c1 / (2.0 * T.c2);
                 if (vertex > t0 && vertex < t1) {
@@ -194,7 +195,6 @@ private:
         const ModelAlongRay T(plane, m, o, d);
         const double c0 = T.c0, c1 = T.c1, c2 = T.c2;
         const double slopeError = slopeErrorPerUnit * d.norm();
-        auto model = [&](double t) { return T(t); };
         auto rootBetween = [&](double a, double b) {
             r.t = 0.5 * (a + b);
             gradient = plane.slope + m.times(o + r.t * d - plane.point);
@@ -215,7 +215,7 @@ private:
         Span spans[5];
         int count = 0;
         for (int k = 0; k + 1 < cutCount; ++k) {
-            const double mid = 0.5 * (cuts[k] + cuts[k + 1]), v = model(mid);
+            const double mid = 0.5 * (cuts[k] + cuts[k + 1]), v = T(mid);
             const int sign = v > e ? 1 : v < -e ? -1 : 0;
             if (count > 0 && spans[count - 1].sign == sign)
                 spans[count - 1].b = cuts[k + 1];
@@ -275,7 +275,7 @@ private:
                 // at a proven root, and a span where T has no root rarely
                 // holds one. The end on T's side of zero is asked first: it
                 // is the one likely to prove the span empty.
-                const bool aFirst = (model(0.5 * (s.a + s.b)) > 0) == rising;
+                const bool aFirst = (T(0.5 * (s.a + s.b)) > 0) == rising;
                 for (int pass = 0; pass < 2 && !provesNone(); ++pass) {
                     if ((pass == 0) == aFirst) {
                         if (left == 0 && (left = signAt(s.a)) == 0) return hitAt(s.a, locals, o, d, r, gradient);
