@@ -593,8 +593,8 @@ void MpuField::finish() {
     };
     index(0.0, cellStart_, cellItems_);
     index(nearMargin_, nearStart_, nearItems_);
-    // The single-piece locals' lane table, each quadric about its ball's centre.
-    laneTable_.assign(size_t(kLaneColumns) * locals_.size(), 0.0);
+    // The single-piece locals' lane rows, each quadric about its ball's centre.
+    laneRows_.assign(locals_.size(), LaneRow{});
     for (size_t i = 0; i < locals_.size(); ++i) {
         const Local& l = locals_[i];
         if (l.combination != MpuCombination::Single) continue;
@@ -604,7 +604,7 @@ void MpuField::finish() {
         const double row[kLaneColumns] = {l.center.x(), l.center.y(), l.center.z(), 1.0 / (l.radius * l.radius),
                                           c0, g.x(), g.y(), g.z(), q.A(0, 0), q.A(0, 1), q.A(0, 2), q.A(1, 1),
                                           q.A(1, 2), q.A(2, 2)};
-        for (int c = 0; c < kLaneColumns; ++c) laneTable_[size_t(c) * locals_.size() + i] = row[c];
+        std::copy(row, row + kLaneColumns, laneRows_[i].values);
     }
     // Each piece's |A| (Frobenius, at least the spectral norm, slightly
     // raised for rounding): its gradient g + 2 A y moves at most 2 |A| |dy|.

@@ -1,5 +1,5 @@
 // The single-piece locals' share of an MPU field's sums over a tracer's
-// list, Lanes::size() locals at a time: gathered from the field's lane table
+// list, Lanes::size() locals at a time: gathered from the field's lane rows
 // (each quadric taken about its ball's centre, so one offset r serves the
 // weight and the quadric). Built for the machine's widest vectors.
 #include <algorithm>
@@ -15,19 +15,16 @@ namespace {
 using std::experimental::reduce;
 
 // Calls visit(load, valid) for each run of Lanes::size() locals of
-// `singles`: load(column) gathers that column of the lane table; lanes past
+// `singles`: load(column) gathers that column of their lane rows; lanes past
 // the list's end repeat its first local and are not valid.
-template <class Visit>
-void forLaneRuns(const std::vector<double>& table, size_t stride, std::span<const uint32_t> singles, Visit&& visit) {
+template <class Row, class Visit>
+void forLaneRuns(const std::vector<Row>& rows, std::span<const uint32_t> singles, Visit&& visit) {
     constexpr size_t kWidth = Lanes::size();
     for (size_t first = 0; first < singles.size(); first += kWidth) {
         const size_t count = std::min(kWidth, singles.size() - first);
         uint32_t index[kWidth];
         for (size_t j = 0; j < kWidth; ++j) index[j] = singles[first + (j < count ? j : 0)];
-        auto load = [&](int column) {
-            const double* values = table.data() + size_t(column) * stride;
-            return Lanes([&](auto j) { return values[index[j]]; });
-        };
+        auto load = [&](int column) { return Lanes([&](auto j) { return rows[index[j]].values[column]; }); };
         visit(load, firstLanes(count));
     }
 }
@@ -36,7 +33,7 @@ void forLaneRuns(const std::vector<double>& table, size_t stride, std::span<cons
 
 void MpuField::addSingleLanes(const Vec3& p, std::span<const uint32_t> singles, MpuBlendSums& s) const {
     Lanes W = 0.0, N = 0.0, wx = 0.0, wy = 0.0, wz = 0.0, nx = 0.0, ny = 0.0, nz = 0.0;
-    forLaneRuns(laneTable_, locals_.size(), singles, [&](auto&& load, const Lanes::mask_type& valid) {
+    forLaneRuns(laneRows_, singles, [&](auto&& load, const Lanes::mask_type& valid) {
         const Lanes rx = p.x() - load(CenterX), ry = p.y() - load(CenterY), rz = p.z() - load(CenterZ);
         const Lanes inverseR2 = load(InverseRadius2);
         const Lanes s1 = 1.0 - (rx * rx + ry * ry + rz * rz) * inverseR2;
@@ -67,7 +64,7 @@ void MpuField::addSingleLanes(const Vec3& p, std::span<const uint32_t> singles, 
 
 double MpuField::singleLanesNumerator(const Vec3& p, std::span<const uint32_t> singles) const {
     Lanes N = 0.0;
-    forLaneRuns(laneTable_, locals_.size(), singles, [&](auto&& load, const Lanes::mask_type& valid) {
+    forLaneRuns(laneRows_, singles, [&](auto&& load, const Lanes::mask_type& valid) {
         const Lanes rx = p.x() - load(CenterX), ry = p.y() - load(CenterY), rz = p.z() - load(CenterZ);
         const Lanes s1 = 1.0 - (rx * rx + ry * ry + rz * rz) * load(InverseRadius2);
         const Lanes::mask_type inside = valid && s1 > 0.0;
@@ -88,7 +85,7 @@ int MpuField::addSinglesAlongSegment(const Vec3& p0, const Vec3& D, std::span<co
     const double DD = D.squaredNorm();
     Lanes whole[9] = {};  // the sum of the terms whose ball holds the whole segment
     int met = 0;
-    forLaneRuns(laneTable_, locals_.size(), singles, [&](auto&& load, const Lanes::mask_type& valid) {
+    forLaneRuns(laneRows_, singles, [&](auto&& load, const Lanes::mask_type& valid) {
         using std::experimental::sqrt, std::experimental::popcount;
         // s(u) = 1 - |r0 + u D|^2 / R^2 = s0 + s1 u + s2 u^2; the ball is s > 0,
         // between u = (-r0D -+ sqrt(disc)) / DD.

@@ -33,8 +33,8 @@ public:
           parts_(std::move(parts)),
           blobs_(std::move(blobs)) {}
 
-    CellTraceResult trace(uint32_t index, const PartBand&, const Vec3& origin, const Vec3& direction, double t0, double t1,
-                          const TraceSettings& settings) const override {
+    CellTraceResult trace(uint32_t index, const PartBand&, const PartPayload&, const Vec3& origin,
+                          const Vec3& direction, double t0, double t1, const TraceSettings& settings) const override {
         const BlobPart& part = parts_[index];
         Vec3 o, d;
         rayInLeafFrame(placement_, origin, direction, o, d);

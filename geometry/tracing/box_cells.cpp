@@ -13,8 +13,8 @@ public:
     BoxCellTracer(const ShapeCell<BoxField>& cell, RoundedBoxPieces pieces)
         : ShapeCellTracer(cell), pieces_(std::move(pieces)) {}
 
-    CellTraceResult trace(uint32_t, const PartBand&, const Vec3& origin, const Vec3& direction, double t0, double t1,
-                          const TraceSettings&) const override {
+    CellTraceResult trace(uint32_t, const PartBand&, const PartPayload&, const Vec3& origin, const Vec3& direction,
+                          double t0, double t1, const TraceSettings&) const override {
         CellTraceResult r;
         Vec3 o, d;
         if (!leafSegment(origin, direction, o, d, t0, t1)) return r;

@@ -7,6 +7,8 @@
 #pragma once
 
 #include <cstdint>
+#include <cstring>
+#include <type_traits>
 #include <limits>
 #include <memory>
 #include <optional>
@@ -45,21 +47,49 @@ struct PartBand {
     }
 };
 
+/// What an accelerator keeps of each part inline, after its box and band
+/// in the same cell record (ImplicitSurface's SurfaceCell): a ray that
+/// reaches the band reads it from the cache lines just fetched for them,
+/// not with another dependent cache miss elsewhere. Any trivially copyable
+/// type up to kBytes bytes, stored with store() and read with as<T>().
+struct PartPayload {
+    static constexpr size_t kBytes = 112;
+
+    template <typename T>
+    static PartPayload store(const T& value) {
+        static_assert(std::is_trivially_copyable_v<T> && sizeof(T) <= kBytes && alignof(T) <= alignof(double));
+        PartPayload p;
+        std::memcpy(p.bytes, &value, sizeof(T));
+        return p;
+    }
+    template <typename T>
+    T as() const {
+        static_assert(std::is_trivially_copyable_v<T> && sizeof(T) <= kBytes && alignof(T) <= alignof(double));
+        T value;
+        std::memcpy(&value, bytes, sizeof(T));
+        return value;
+    }
+
+    alignas(double) unsigned char bytes[kBytes] = {};
+};
+
 /// Marches the parts of the cells one accelerator took over.
 class CellTracer {
 public:
     virtual ~CellTracer() = default;
     /// First root along origin + t direction for t in [t0, t1], a segment
-    /// already clipped to the part's box; `band` is the part's
-    /// (CellAcceleration::bands; infinite when the accelerator gave none).
-    virtual CellTraceResult trace(uint32_t part, const PartBand& band, const Vec3& origin, const Vec3& direction,
-                                  double t0, double t1, const TraceSettings& settings) const = 0;
+    /// already clipped to the part's box; `band` and `payload` are the
+    /// part's (CellAcceleration::bands and payloads; an infinite band and
+    /// zeros when the accelerator gave none).
+    virtual CellTraceResult trace(uint32_t part, const PartBand& band, const PartPayload& payload, const Vec3& origin,
+                                  const Vec3& direction, double t0, double t1, const TraceSettings& settings) const = 0;
 };
 
 struct CellAcceleration {
     std::unique_ptr<const CellTracer> tracer;
     std::vector<Box3> parts;  ///< world boxes within the cell, indexed as trace()'s `part`
     std::vector<PartBand> bands;  ///< one per part, or none
+    std::vector<PartPayload> payloads;  ///< one per part, or none
 };
 
 // Accelerators work in their leaf's frame (an affine map keeps a ray's t):

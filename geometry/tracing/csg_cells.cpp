@@ -84,8 +84,8 @@ public:
     CsgCellTracer(std::vector<FieldInstruction> code, std::vector<CsgLeaf> leaves)
         : code_(std::move(code)), leaves_(std::move(leaves)) {}
 
-    CellTraceResult trace(uint32_t, const PartBand&, const Vec3& origin, const Vec3& direction, double t0, double t1,
-                          const TraceSettings& settings) const override {
+    CellTraceResult trace(uint32_t, const PartBand&, const PartPayload&, const Vec3& origin, const Vec3& direction,
+                          double t0, double t1, const TraceSettings& settings) const override {
         CellTraceResult r;
         if (!(t1 > t0)) return r;
         std::array<SpanList, kMaxInstructions> slot;

@@ -220,6 +220,7 @@ ImplicitSurface::ImplicitSurface(FieldProgram field, const ImplicitSurfaceOption
             cell.tracer = tracer;
             cell.part = part;
             if (!b.acceleration->bands.empty()) cell.band = b.acceleration->bands[part];
+            if (!b.acceleration->payloads.empty()) cell.payload = b.acceleration->payloads[part];
             cells_.push_back(cell);
         }
     }
@@ -243,7 +244,8 @@ TraceResult ImplicitSurface::intersectCell(uint32_t index, const Vec3& origin, c
     if (cell.tracer < 0) {
         r = sphereTrace(program, cell.lipschitz, origin, direction, t0, t1, settings);
     } else {
-        const CellTraceResult a = tracers_[cell.tracer]->trace(cell.part, cell.band, origin, direction, t0, t1, settings);
+        const CellTraceResult a =
+            tracers_[cell.tracer]->trace(cell.part, cell.band, cell.payload, origin, direction, t0, t1, settings);
         r = a;
         if (!a.complete) {
             // The accelerator gave up: the general tracer settles the rest.

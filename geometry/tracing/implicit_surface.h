@@ -43,15 +43,19 @@ struct ImplicitSurfaceOptions {
     std::vector<std::shared_ptr<const CellAccelerator>> cellAccelerators = defaultCellAccelerators();
 };
 
-struct SurfaceCell {
+/// One Embree primitive. What a ray offered the cell reads first (box,
+/// band, tracer) fills its first two cache lines, the part's payload the
+/// next two: four aligned lines, fetched together.
+struct alignas(64) SurfaceCell {
     Box3 box;
     /// An accelerated part's band (CellAcceleration::bands), next to its
     /// box: what a ray offered the part reads first.
     PartBand band;
-    double lipschitz = 0.0;
     uint32_t program = 0;  ///< index into ImplicitSurface::cellPrograms
     int32_t tracer = -1;   ///< the accelerator's tracer that marches it, or -1
     uint32_t part = 0;     ///< which of that tracer's parts it is
+    double lipschitz = 0.0;
+    PartPayload payload;  ///< an accelerated part's (CellAcceleration::payloads)
 };
 
 /// Per-thread totals of the marching work, read by benchmarks and AOVs.

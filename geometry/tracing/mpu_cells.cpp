@@ -59,7 +59,9 @@ struct PartModel {
 // beside the part's box): the surface lies where |L| <= band, L the model's
 // tangent plane at the centre and band its error plus the reach of its
 // curvature, a slab a ray crosses in closed form, so rays that miss it read
-// nothing here.
+// nothing here. The part itself is the cell's PartPayload, in the cache
+// lines after its box and band: kept in a vector of the tracer's, it was a
+// second dependent cache miss for every ray that reached a band.
 struct MpuPart {
     uint32_t first = 0, count = 0;
     uint32_t singles = 0;  ///< the list's single-piece locals, which come first
@@ -76,13 +78,13 @@ struct MpuPart {
 // the deepest parts, kept however loose) take the exact search.
 class MpuCellTracer final : public CellTracer {
 public:
-    MpuCellTracer(std::shared_ptr<const MpuField> field, const LeafPlacement& placement, std::vector<MpuPart> parts,
-                  std::vector<Box3> leafBoxes, std::vector<uint32_t> locals)
-        : field_(std::move(field)), placement_(placement), parts_(std::move(parts)),
+    MpuCellTracer(std::shared_ptr<const MpuField> field, const LeafPlacement& placement, std::vector<Box3> leafBoxes,
+                  std::vector<uint32_t> locals)
+        : field_(std::move(field)), placement_(placement),
           leafBoxes_(placement.identity ? std::vector<Box3>() : std::move(leafBoxes)), locals_(std::move(locals)) {}
 
-    CellTraceResult trace(uint32_t index, const PartBand& band, const Vec3& origin, const Vec3& direction, double t0,
-                          double t1, const TraceSettings& settings) const override {
+    CellTraceResult trace(uint32_t index, const PartBand& band, const PartPayload& payload, const Vec3& origin,
+                          const Vec3& direction, double t0, double t1, const TraceSettings& settings) const override {
         Vec3 o, d;
         rayInLeafFrame(placement_, origin, direction, o, d);
         if (!placement_.identity && !clipRayToBox(leafBoxes_[index], o, d, t0, t1)) return {};
@@ -94,7 +96,7 @@ public:
         CellTraceResult r;
         r.steps = 1;
         if (!(t1 >= t0)) return r;
-        const MpuPart& part = parts_[index];
+        const MpuPart part = payload.as<MpuPart>();
         const MpuLocalList locals(std::span<const uint32_t>(locals_.data() + part.first, part.count), part.singles);
         const double tolerance = settings.epsilon / direction.norm();
         Vec3 gradient;
@@ -395,7 +397,6 @@ private:
 
     std::shared_ptr<const MpuField> field_;
     LeafPlacement placement_;
-    std::vector<MpuPart> parts_;
     /// Each part's box in the leaf's frame, where that is not the world's
     /// (the world box, which the caller clips to, serves otherwise).
     std::vector<Box3> leafBoxes_;
@@ -419,7 +420,7 @@ std::optional<CellAcceleration> MpuCellAccelerator::accelerate(const FieldProgra
     // Beyond the domain the background term is a distance, not a polynomial.
     if (!field.bounds().contains(leafBox)) return std::nullopt;
 
-    std::vector<MpuPart> parts;
+    std::vector<PartPayload> parts;  // each an MpuPart
     std::vector<Box3> boxes;      // parallel to parts, in the leaf's frame
     std::vector<PartBand> bands;  // parallel to parts
     std::vector<uint32_t> locals, touching;
@@ -492,7 +493,7 @@ std::optional<CellAcceleration> MpuCellAccelerator::accelerate(const FieldProgra
         part.first = first;
         part.count = count;
         part.singles = uint32_t(columns.singleCount());
-        parts.push_back(part);
+        parts.push_back(PartPayload::store(part));
     };
     auto carve = [&](auto&& self, const Box3& b, int splits) -> void {
         field.localsTouching(b, touching);
@@ -515,8 +516,8 @@ std::optional<CellAcceleration> MpuCellAccelerator::accelerate(const FieldProgra
     CellAcceleration a;
     a.parts = worldPartBoxes(placement, boxes, box);
     a.bands = std::move(bands);
-    a.tracer = std::make_unique<MpuCellTracer>(mpu->field, placement, std::move(parts), std::move(boxes),
-                                               std::move(locals));
+    a.payloads = std::move(parts);
+    a.tracer = std::make_unique<MpuCellTracer>(mpu->field, placement, std::move(boxes), std::move(locals));
     return a;
 }
 

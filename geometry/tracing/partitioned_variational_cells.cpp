@@ -71,8 +71,8 @@ public:
           localIndices_(std::move(localIndices)), models_(std::move(models)),
           background_(MpuField::kBackgroundWeight * field_->backgroundMargin()) {}
 
-    CellTraceResult trace(uint32_t index, const PartBand&, const Vec3& origin, const Vec3& direction, double t0, double t1,
-                          const TraceSettings& settings) const override {
+    CellTraceResult trace(uint32_t index, const PartBand&, const PartPayload&, const Vec3& origin,
+                          const Vec3& direction, double t0, double t1, const TraceSettings& settings) const override {
         CellTraceResult r;
         const ModelledPart& part = parts_[index];
         Vec3 o, d;

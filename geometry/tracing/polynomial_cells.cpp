@@ -149,8 +149,8 @@ public:
     PolynomialCellTracer(std::shared_ptr<const PolynomialSurface<Degree>> surface, bool negated, const Box3& part)
         : surface_(std::move(surface)), sign_(negated ? -1.0 : 1.0), part_(part) {}
 
-    CellTraceResult trace(uint32_t, const PartBand&, const Vec3& origin, const Vec3& direction, double t0, double t1,
-                          const TraceSettings& settings) const override {
+    CellTraceResult trace(uint32_t, const PartBand&, const PartPayload&, const Vec3& origin, const Vec3& direction,
+                          double t0, double t1, const TraceSettings& settings) const override {
         const PolynomialSurface<Degree>& surface = *surface_;
         Vec3 o, d;
         rayInLeafFrame(surface.placement, origin, direction, o, d);

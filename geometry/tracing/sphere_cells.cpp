@@ -12,8 +12,8 @@ class SphereCellTracer final : public ShapeCellTracer<SphereField> {
 public:
     explicit SphereCellTracer(const ShapeCell<SphereField>& cell) : ShapeCellTracer(cell) {}
 
-    CellTraceResult trace(uint32_t, const PartBand&, const Vec3& origin, const Vec3& direction, double t0, double t1,
-                          const TraceSettings&) const override {
+    CellTraceResult trace(uint32_t, const PartBand&, const PartPayload&, const Vec3& origin, const Vec3& direction,
+                          double t0, double t1, const TraceSettings&) const override {
         CellTraceResult r;
         Vec3 o, d;
         if (!leafSegment(origin, direction, o, d, t0, t1)) return r;

@@ -10,8 +10,8 @@ class TorusCellTracer final : public ShapeCellTracer<TorusField> {
 public:
     explicit TorusCellTracer(const ShapeCell<TorusField>& cell) : ShapeCellTracer(cell) {}
 
-    CellTraceResult trace(uint32_t, const PartBand&, const Vec3& origin, const Vec3& direction, double t0, double t1,
-                          const TraceSettings& settings) const override {
+    CellTraceResult trace(uint32_t, const PartBand&, const PartPayload&, const Vec3& origin, const Vec3& direction,
+                          double t0, double t1, const TraceSettings& settings) const override {
         CellTraceResult r;
         Vec3 o, D;
         if (!leafSegment(origin, direction, o, D, t0, t1)) return r;

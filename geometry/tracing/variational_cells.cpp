@@ -13,8 +13,8 @@ public:
                           std::shared_ptr<const VariationalField> field, const LeafPlacement& placement)
         : models_(std::move(models)), parts_(std::move(parts)), field_(std::move(field)), placement_(placement) {}
 
-    CellTraceResult trace(uint32_t part, const PartBand& band, const Vec3& origin, const Vec3& direction, double t0,
-                          double t1, const TraceSettings& settings) const override {
+    CellTraceResult trace(uint32_t part, const PartBand& band, const PartPayload&, const Vec3& origin,
+                          const Vec3& direction, double t0, double t1, const TraceSettings& settings) const override {
         Vec3 o, d;
         rayInLeafFrame(placement_, origin, direction, o, d);
         // The model holds inside its own box only, the surface lies in its

@@ -23,8 +23,8 @@ public:
           field_(std::get<VariationalLeafField>(program_.leaf(leaf).shape).field.get()), leafBox_(leafBox),
           split_(split), models_(std::move(models)), lipschitz_(lipschitz), terms_(terms) {}
 
-    CellTraceResult trace(uint32_t, const PartBand&, const Vec3& origin, const Vec3& direction, double t0, double t1,
-                          const TraceSettings& settings) const override {
+    CellTraceResult trace(uint32_t, const PartBand&, const PartPayload&, const Vec3& origin, const Vec3& direction,
+                          double t0, double t1, const TraceSettings& settings) const override {
         CellTraceResult r;
         const double speed = direction.norm();
         if (!(speed > 0) || !(t1 >= t0)) return r;
