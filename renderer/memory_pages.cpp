@@ -48,6 +48,13 @@ void keepFreedMemoryForReuse() {
     mallopt(M_TRIM_THRESHOLD, kHeapTrimThreshold);
 }
 
+void releaseLargeFreedMemory() {
+#if defined(__GLIBC__) && (__GLIBC__ > 2 || __GLIBC_MINOR__ >= 33)
+    constexpr size_t kLarge = size_t(64) << 20;
+    if (mallinfo2().fordblks > kLarge) malloc_trim(0);
+#endif
+}
+
 void adviseHugePages(void* data, size_t bytes) {
     if (uintptr_t first, last; wholePages(data, bytes, first, last))
         madvise(reinterpret_cast<void*>(first), last - first, MADV_HUGEPAGE);

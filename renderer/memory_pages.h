@@ -18,6 +18,12 @@ namespace isotrace {
 /// EXR; 460 now).
 void keepFreedMemoryForReuse();
 
+/// Gives the heap's freed memory back to the kernel when it is large (over
+/// 64 MB), as building a large surface's cells leaves it: the scratch of a
+/// million MPU parts was 170 MB still resident while Embree built its tree
+/// and the frame rendered. Small scenes keep theirs for reuse.
+void releaseLargeFreedMemory();
+
 /// Asks for the whole pages of [data, data + bytes) to be backed by 2 MB
 /// pages when first touched (transparent huge pages in "madvise" mode, as
 /// Debian and most distributions set them): one fault per 2 MB instead of
