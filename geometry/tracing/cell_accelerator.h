@@ -8,10 +8,10 @@
 
 #include <cstdint>
 #include <cstring>
-#include <type_traits>
 #include <limits>
 #include <memory>
 #include <optional>
+#include <type_traits>
 #include <vector>
 
 #include "geometry/bounding_box.h"

@@ -196,13 +196,13 @@ ImplicitSurface::ImplicitSurface(FieldProgram field, const ImplicitSurfaceOption
         b.cell.box = box;
         b.cell.lipschitz = options.globalLipschitzOnly ? globalLipschitz_ : program.estimate(box).lipschitz;
     });
-    // Cells that share a program (nothing to prune) keep one copy of it.
     // The cells are counted first: an MPU surface has close to a million,
     // and a growing vector would hold its old and new copies at once.
     size_t cellCount = 0;
     for (const Built& b : built)
         if (b.keep) cellCount += b.acceleration ? b.acceleration->parts.size() : 1;
     cells_.reserve(cellCount);
+    // Cells that share a program (nothing to prune) keep one copy of it.
     std::unordered_map<const FieldProgram*, uint32_t> programIndex;
     for (size_t i = 0; i < built.size(); ++i) {
         Built& b = built[i];
