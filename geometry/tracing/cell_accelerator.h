@@ -49,22 +49,25 @@ struct PartBand {
 
 /// What an accelerator keeps of each part inline, after its box and band
 /// in the same cell record (ImplicitSurface's SurfaceCell): a ray that
-/// reaches the band reads it from the cache lines just fetched for them,
-/// not with another dependent cache miss elsewhere. Any trivially copyable
+/// reaches the band reads it at an address known from the start, not
+/// through the tracer's own memory after the cell. Any trivially copyable
 /// type up to kBytes bytes, stored with store() and read with as<T>().
 struct PartPayload {
     static constexpr size_t kBytes = 112;
+    template <typename T>
+    static constexpr bool kFits =
+        std::is_trivially_copyable_v<T> && sizeof(T) <= kBytes && alignof(T) <= alignof(double);
 
     template <typename T>
     static PartPayload store(const T& value) {
-        static_assert(std::is_trivially_copyable_v<T> && sizeof(T) <= kBytes && alignof(T) <= alignof(double));
+        static_assert(kFits<T>);
         PartPayload p;
         std::memcpy(p.bytes, &value, sizeof(T));
         return p;
     }
     template <typename T>
     T as() const {
-        static_assert(std::is_trivially_copyable_v<T> && sizeof(T) <= kBytes && alignof(T) <= alignof(double));
+        static_assert(kFits<T>);
         T value;
         std::memcpy(&value, bytes, sizeof(T));
         return value;

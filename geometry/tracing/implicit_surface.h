@@ -43,9 +43,9 @@ struct ImplicitSurfaceOptions {
     std::vector<std::shared_ptr<const CellAccelerator>> cellAccelerators = defaultCellAccelerators();
 };
 
-/// One Embree primitive. What a ray offered the cell reads first (box,
-/// band, tracer) fills its first two cache lines, the part's payload the
-/// next two: four aligned lines, fetched together.
+/// One Embree primitive. What every ray offered the cell reads (box, band,
+/// tracer) fills its first two cache lines; the part's payload the next
+/// two, read only by rays that reach the band.
 struct alignas(64) SurfaceCell {
     Box3 box;
     /// An accelerated part's band (CellAcceleration::bands), next to its
