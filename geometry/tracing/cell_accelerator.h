@@ -6,6 +6,8 @@
 // each part itself. Variational fields use it (variational_cells.h).
 #pragma once
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <limits>
@@ -46,6 +48,37 @@ struct PartBand {
         return raySlabSpan(at(origin), slope.dot(direction), halfWidth, enter, leave);
     }
 };
+
+/// The box around what of `box` lies inside the band's slab: the part's
+/// surface lies there, so Embree, offered this box instead, calls the tracer
+/// for fewer rays (a ray leaving the surface crosses the boxes of the parts
+/// beside its origin, and most of those only outside their slabs). Per
+/// axis, x_k's range where the slab's value (the other axes spanning the
+/// box) can reach [-halfWidth, halfWidth]; widened for rounding, never
+/// beyond `box`; empty when the slab misses the box.
+inline Box3 boxAroundBand(const Box3& box, const PartBand& band) {
+    if (box.isEmpty() || !std::isfinite(band.halfWidth)) return box;
+    Box3 around = box;
+    const double slack = 1e-9 * box.extent().norm();
+    for (int k = 0; k < 3; ++k) {
+        const double s = band.slope[k];
+        if (s == 0.0) continue;
+        double lo = band.value, hi = band.value;  // the others' share of the plane's value
+        for (int j = 0; j < 3; ++j) {
+            if (j == k) continue;
+            const double a = band.slope[j] * (box.lower[j] - band.point[j]);
+            const double b = band.slope[j] * (box.upper[j] - band.point[j]);
+            lo += std::min(a, b);
+            hi += std::max(a, b);
+        }
+        // lo + s (x - p) <= halfWidth and hi + s (x - p) >= -halfWidth.
+        double first = band.point[k] + (-band.halfWidth - hi) / s, second = band.point[k] + (band.halfWidth - lo) / s;
+        if (first > second) std::swap(first, second);
+        around.lower[k] = std::max(box.lower[k], first - slack);
+        around.upper[k] = std::min(box.upper[k], second + slack);
+    }
+    return around;
+}
 
 /// What an accelerator keeps of each part inline, after its box and band
 /// in the same cell record (ImplicitSurface's SurfaceCell): a ray that

@@ -78,7 +78,10 @@ std::optional<CellAcceleration> VariationalCellAccelerator::accelerate(const Fie
     std::vector<VariationalPatch> kept;
     std::vector<Box3> parts;
     for (VariationalPatch& model : *models) {
-        const Box3 part = shrunkToSurface(model.box, [&model](const Box3& b) { return model.rangeOver(b); });
+        // Shrunk to where the model may hold zero, then to its band's slab.
+        const Box3 shrunk = shrunkToSurface(model.box, [&model](const Box3& b) { return model.rangeOver(b); });
+        const Box3 part = boxAroundBand(
+            shrunk, {model.expansionPoint, model.planeSlope, model.coefficients[0], model.planeBand});
         if (part.isEmpty()) continue;
         parts.push_back(part);
         kept.push_back(std::move(model));
