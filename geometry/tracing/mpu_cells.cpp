@@ -26,7 +26,12 @@ constexpr int kMaxSplits = 2;
 // and 0.15 render in 4.43, 4.42 and 4.70 s (3.08, 3.23, 3.49) after loads
 // of 2.42, 2.15 and 2.08 s (2.06, 2.04, 1.85), the larger model's peak
 // 535, 509 and 446 MB; looser, too few spans are proven monotone and the
-// exact search takes them, tighter, loading grows for little.
+// exact search takes them, tighter, loading grows for little. Measured
+// again once parts were cut to their slabs (2026-12-05, the larger model,
+// interleaved isotrace render): 0.15, 0.07 and 0.05 render in 1.04x, 0.93x
+// to 0.96x and 0.88x the time of 0.1, but peak at 680 MB and 1 GB against
+// 525 MB, and the whole process takes longer (7.5 s and 9.2 s against
+// 6.9 s at 16 spp): kept at 0.1.
 constexpr double kModelTolerance = 0.1;
 constexpr int kMaxModelSplits = 4;
 
