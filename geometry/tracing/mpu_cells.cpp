@@ -78,9 +78,9 @@ struct MpuPart {
 // band (the model's tangent plane at the octant's centre, its error and its
 // curvature's reach over the octant, a quarter of the whole box's), inside
 // the whole box's slab. Rays leaving the surface cross the boxes of the
-// parts beside their origin; on a 37,822-vertex model these boxes cut the
-// parts Embree offers by 12% (grandchildren's slabs: 13%, for eight times
-// the building).
+// parts beside their origin; on the 37,934-vertex model of
+// bench/mpu_render these boxes cut the parts Embree offers by 12%
+// (grandchildren's slabs: 13%, for eight times the building).
 Box3 boxAroundModelSurface(const Box3& partBox, const Box3& b, const MpuNumeratorModel& m, const PartBand& whole) {
     const double octantReach = quadraticRange(0.0, Vec3::Zero(), 0.5 * m.hessian, 0.25 * b.extent()).magnitude();
     Box3 around;

@@ -73,23 +73,22 @@ std::optional<CellAcceleration> VariationalCellAccelerator::accelerate(const Fie
                            maxDepth_);
     if (!models) return std::nullopt;
     // Each model's box shrunk to the sub-boxes (two bisections deep) whose
-    // range by the model (VariationalPatch::rangeOver) may hold zero: rays
-    // that pass the surface by are never offered the rest.
+    // range by the model (VariationalPatch::rangeOver) may hold zero, then
+    // to its band's slab: rays that pass the surface by are never offered
+    // the rest.
     std::vector<VariationalPatch> kept;
     std::vector<Box3> parts;
+    CellAcceleration a;
     for (VariationalPatch& model : *models) {
-        // Shrunk to where the model may hold zero, then to its band's slab.
-        const Box3 shrunk = shrunkToSurface(model.box, [&model](const Box3& b) { return model.rangeOver(b); });
-        const Box3 part = boxAroundBand(
-            shrunk, {model.expansionPoint, model.planeSlope, model.coefficients[0], model.planeBand});
+        const PartBand band{model.expansionPoint, model.planeSlope, model.coefficients[0], model.planeBand};
+        const Box3 part =
+            boxAroundBand(shrunkToSurface(model.box, [&model](const Box3& b) { return model.rangeOver(b); }), band);
         if (part.isEmpty()) continue;
         parts.push_back(part);
+        a.bands.push_back(band);
         kept.push_back(std::move(model));
     }
-    CellAcceleration a;
     a.parts = worldPartBoxes(placement, parts, box);
-    for (const VariationalPatch& model : kept)
-        a.bands.push_back({model.expansionPoint, model.planeSlope, model.coefficients[0], model.planeBand});
     a.tracer = std::make_unique<VariationalCellTracer>(std::move(kept), std::move(parts), variational->field, placement);
     return a;
 }
