@@ -49,14 +49,10 @@ struct MpuNumeratorModel {
     /// slopeError are mpuTaylorRemainder at rho (plus the creases' share),
     /// and within distance r of the centre the remainder at r holds.
     double third = 0.0, halfDiagonal = 0.0, rounding = 0.0;
-    /// What a model of a box inside this one takes over (see
-    /// mpuNumeratorModelWithin): the shares of the bound on N's third
-    /// derivatives over the box of the single-piece locals and of the sharp
-    /// ones whose crease does not cross it; those whose crease does (all
-    /// sharp locals when creasedCount is -1, past kMaxCreased of them); and
-    /// the size of the sums (for rounding).
+    /// The sharp locals whose crease may cross the box (all of them when
+    /// creasedCount is -1, past kMaxCreased): boxes inside resolve the
+    /// others to one piece (MpuLocalColumns::assignResolved).
     static constexpr int kMaxCreased = 6;
-    double singleThird = 0.0, throughoutSharpThird = 0.0, scale = 0.0;
     uint32_t creased[kMaxCreased] = {};
     int creasedCount = 0;
 
@@ -138,16 +134,6 @@ private:
 /// `locals`.
 MpuNumeratorModel fitMpuNumeratorModel(const MpuField& field, const Box3& box, const MpuLocalColumns& locals,
                                        const MpuLocalColumns* resolved = nullptr);
-
-/// The model of N over `box`, which lies inside the box of `outer`: the
-/// single-piece locals' share of outer's bound on N's third derivatives
-/// holds in every box inside, so only their Taylor terms at the centre are
-/// summed (over the balls that hold it), not their bounds; so for sharp
-/// locals whose crease does not cross outer's box (`resolved`, where given,
-/// holds them, resolved by `outer`). Those whose crease does are bounded
-/// anew. Looser than a model of its own, a fraction of the work.
-MpuNumeratorModel mpuNumeratorModelWithin(const MpuField& field, const Box3& box, const MpuLocalColumns& locals,
-                                          const MpuLocalColumns* resolved, const MpuNumeratorModel& outer);
 
 /// The range of value + gradient . y + y^T A y (A symmetric) over
 /// |y_k| <= half_k.

@@ -485,29 +485,21 @@ std::optional<CellAcceleration> MpuCellAccelerator::accelerate(const FieldProgra
         auto accurate = [&](const MpuNumeratorModel& m) {
             return m.valueError <= kModelTolerance * m.gradient.norm() * half.norm();
         };
-        // Inside a parent, most of its bound on N's third derivatives
-        // serves first: most boxes are settled (empty, or modelled) by it,
-        // and bounding them anew costs three times as much.
-        std::optional<MpuNumeratorModel> model;
-        if (parent) {
-            model = mpuNumeratorModelWithin(field, b, columns, resolved, *parent);
-            if (holdsNoSurface(*model)) return;
-            if (!accurate(*model)) model.reset();
-        }
-        if (!model) {
-            model = fitMpuNumeratorModel(field, b, columns, resolved);
-            if (holdsNoSurface(*model)) return;
-        }
-        if (!accurate(*model) && splits < kMaxModelSplits) {
+        // Each box is bounded anew: its own third derivatives at its centre
+        // make its errors several times tighter than any bound taken over
+        // from its parent (whose balls' rims are more likely to cross it).
+        const MpuNumeratorModel model = fitMpuNumeratorModel(field, b, columns, resolved);
+        if (holdsNoSurface(model)) return;
+        if (!accurate(model) && splits < kMaxModelSplits) {
             MpuLocalColumns& within = resolvedAt[splits + 1];
-            within.assignResolved(field, resolved, (resolved ? resolved : &columns)->sharp(), *model);
-            for (int k = 0; k < 8; ++k) self(self, b.octant(k), splits + 1, first, count, &*model, &within);
+            within.assignResolved(field, resolved, (resolved ? resolved : &columns)->sharp(), model);
+            for (int k = 0; k < 8; ++k) self(self, b.octant(k), splits + 1, first, count, &model, &within);
             return;
         }
         // Embree is offered the box shrunk, two halvings deep, to where the
         // model's range may hold zero, and then to its octants' slabs: rays
         // that pass its corners never call the tracer.
-        const MpuNumeratorModel& m = *model;
+        const MpuNumeratorModel& m = model;
         const Box3 partBox = shrunkToSurface(b, [&m](const Box3& sub) {
             Vec3 slope;
             const double value = m.at(sub.center(), &slope);
