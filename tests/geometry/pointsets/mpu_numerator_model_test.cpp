@@ -22,6 +22,38 @@ using namespace isotrace::geometry;
 
 namespace {
 
+// Oni's oriented points, fitted without sharp features.
+std::vector<MpuPoint> oniPoints() {
+    std::vector<MpuPoint> points;
+    for (const OrientedPoint& p : readOrientedPoints(isotrace::testing::testDataFile("oni.pwn")))
+        points.push_back({p.position, p.normal});
+    return points;
+}
+MpuField smoothFit(const std::vector<MpuPoint>& points) {
+    MpuOptions options;
+    options.sharpFeatures = false;
+    return MpuField::fit(points, options);
+}
+
+// Boxes near the data, inside the field's domain: `perSize` tries for each
+// size (a fraction of the domain's diagonal, stretched by `aspect`) around
+// a random point, jittered by a fifth of the size. Calls visit(box, index,
+// size) for each.
+template <class Visit>
+void forBoxesNearData(const MpuField& field, const std::vector<MpuPoint>& points, std::initializer_list<double> sizes,
+                      int perSize, const Vec3& aspect, std::mt19937& rng, Visit&& visit) {
+    const Box3 domain = field.bounds();
+    const double diagonal = domain.extent().norm();
+    std::normal_distribution<double> n;
+    for (const double size : sizes)
+        for (int i = 0; i < perSize; ++i) {
+            const Vec3 near = points[rng() % points.size()].position + 0.2 * size * diagonal * Vec3(n(rng), n(rng), n(rng));
+            const Vec3 half = Vec3::Constant(0.5 * size * diagonal).cwiseProduct(aspect);
+            const Box3 box(near - half, near + half);
+            if (domain.contains(box)) visit(box, i, size);
+        }
+}
+
 struct Reach {
     double value = 0.0, slope = 0.0;  ///< largest error over its bound
 };
@@ -29,27 +61,21 @@ struct Reach {
 void expectWithinBounds(const MpuField& field, const std::vector<MpuPoint>& points, Reach& reach,
                         size_t& resolvedCount) {
     const Box3 domain = field.bounds();
-    const double diagonal = domain.extent().norm();
     std::mt19937 rng(3);
     std::normal_distribution<double> n;
     std::uniform_real_distribution<double> u(-1.0, 1.0);
     std::vector<uint32_t> locals;
     int boxes = 0;
-    for (const double size : {0.002, 0.008, 0.03}) {
-        for (int i = 0; i < 150; ++i) {
-            const Vec3 near = points[rng() % points.size()].position + 0.2 * size * diagonal * Vec3(n(rng), n(rng), n(rng));
-            const Vec3 half = Vec3::Constant(0.5 * size * diagonal).cwiseProduct(Vec3(1.0, 0.7, 1.3));
-            Box3 box;
-            box.extend(near - half);
-            box.extend(near + half);
-            if (!domain.contains(box)) continue;
+    forBoxesNearData(field, points, {0.002, 0.008, 0.03}, 150, Vec3(1.0, 0.7, 1.3), rng,
+                     [&](const Box3& box, int i, double size) {
+            const Vec3 near = box.center(), half = 0.5 * box.extent();
             // The box's model, alone and with the sharp locals resolved by
             // the model of an outer box, twice as large, of which it is an
             // octant.
             Box3 outer;
             outer.extend(box.lower);
             outer.extend(box.upper + box.extent());
-            if (!domain.contains(outer)) continue;
+            if (!domain.contains(outer)) return;
             ++boxes;
             field.localsTouching(outer, locals);
             const MpuLocalColumns columns(field, locals);
@@ -77,22 +103,17 @@ void expectWithinBounds(const MpuField& field, const std::vector<MpuPoint>& poin
                 reach.value = std::max(reach.value, std::abs(exact.N - model) / m.valueError);
                 reach.slope = std::max(reach.slope, slope / m.slopeError);
             }
-        }
-    }
+        });
     EXPECT_GT(boxes, 300);
 }
 
 }  // namespace
 
 TEST(MpuNumeratorModel, KeepsWithinItsErrorsOnASmoothFit) {
-    std::vector<MpuPoint> points;
-    for (const OrientedPoint& p : readOrientedPoints(isotrace::testing::testDataFile("oni.pwn")))
-        points.push_back({p.position, p.normal});
-    MpuOptions options;
-    options.sharpFeatures = false;
+    const std::vector<MpuPoint> points = oniPoints();
     Reach reach;
     size_t resolved = 0;
-    expectWithinBounds(MpuField::fit(points, options), points, reach, resolved);
+    expectWithinBounds(smoothFit(points), points, reach, resolved);
     std::printf("smooth fit: errors reach %.3g of the value bound, %.3g of the slope bound\n", reach.value,
                 reach.slope);
 }
@@ -117,14 +138,9 @@ TEST(MpuNumeratorModel, KeepsWithinItsErrorsAcrossCreases) {
 // locals' own bounds would be loose: from N's third derivatives at the
 // centre, plus the fourth's bound times the half diagonal.
 TEST(MpuNumeratorModel, BoundsTheThirdDerivativesOverItsBox) {
-    std::vector<MpuPoint> points;
-    for (const OrientedPoint& p : readOrientedPoints(isotrace::testing::testDataFile("oni.pwn")))
-        points.push_back({p.position, p.normal});
-    MpuOptions options;
-    options.sharpFeatures = false;
-    const MpuField field = MpuField::fit(points, options);
-    const Box3 domain = field.bounds();
-    const double diagonal = domain.extent().norm();
+    const std::vector<MpuPoint> points = oniPoints();
+    const MpuField field = smoothFit(points);
+    const double diagonal = field.bounds().extent().norm();
     std::mt19937 rng(7);
     std::normal_distribution<double> n;
     std::uniform_real_distribution<double> u(-1.0, 1.0);
@@ -133,12 +149,9 @@ TEST(MpuNumeratorModel, BoundsTheThirdDerivativesOverItsBox) {
     int boxes = 0;
     // The smallest boxes are bounded by the third derivatives at their
     // centre alone: there the bound is nearly reached.
-    for (const double size : {1e-5, 0.002, 0.008, 0.03}) {
-        for (int i = 0; i < 100; ++i) {
-            const Vec3 near = points[rng() % points.size()].position + 0.2 * size * diagonal * Vec3(n(rng), n(rng), n(rng));
-            const Vec3 half = Vec3::Constant(0.5 * size * diagonal);
-            const Box3 box(near - half, near + half);
-            if (!domain.contains(box)) continue;
+    forBoxesNearData(field, points, {1e-5, 0.002, 0.008, 0.03}, 100, Vec3::Ones(), rng,
+                     [&](const Box3& box, int i, double size) {
+            const Vec3 near = box.center(), half = 0.5 * box.extent();
             ++boxes;
             field.localsTouching(box, locals);
             const MpuNumeratorModel m = fitMpuNumeratorModel(field, box, MpuLocalColumns(field, locals));
@@ -155,8 +168,7 @@ TEST(MpuNumeratorModel, BoundsTheThirdDerivativesOverItsBox) {
                 ASSERT_LE(std::abs(third), m.third * (1 + 1e-3)) << "box " << i << " of size " << size;
                 reach = std::max(reach, std::abs(third) / m.third);
             }
-        }
-    }
+        });
     EXPECT_GT(boxes, 300);
     std::printf("third derivatives reach %.3g of the bound\n", reach);
 }
