@@ -513,8 +513,10 @@ SingleSums sumSingles(const MpuLocalColumns& columns, const Vec3& c, const Box3*
 }
 
 // M3's single-piece share: the third derivatives of the locals taken from
-// the centre move at most their M4 times rho from their value there, and
-// the others keep their own bounds. Where the weights' third derivatives
+// the centre move at most their M4 times rho from their value there (M4
+// bounds pure directional fourth derivatives; for symmetric forms that
+// bounds the mixed ones too, Banach 1938), and the others keep their own
+// bounds. Where the weights' third derivatives
 // cancel across locals (they sum to W's, which varies slowly), this is
 // well below the sum of the locals' own bounds (the smooth fit of
 // mpu_numerator_model_test reaches 0.30 of its value bound, against 0.12
