@@ -26,7 +26,13 @@ Scene::~Scene() {
 // Embree while the scene's fields are built (commands/embree_on_demand.cpp).
 RTCDevice Scene::device() const {
     if (!device_) {
-        device_ = rtcNewDevice(nullptr);
+        // Embree's AVX2 kernels, where the CPU has AVX-512 too: on this
+        // project's AMD EPYC hosts the AVX-512 kernels trace implicit
+        // surfaces (user geometry) 4% to 6% slower and triangles no faster
+        // (2026-12-06, interleaved isotrace render of bench/mpu_render's
+        // scene and of its own triangles). A cap, not a choice: older CPUs
+        // keep their best ISA.
+        device_ = rtcNewDevice("max_isa=avx2");
         if (!device_) throw std::runtime_error("cannot create an Embree device");
         rtcSetDeviceErrorFunction(device_, embreeError, nullptr);
     }
