@@ -697,14 +697,14 @@ MpuBlendSums MpuField::sums(const Vec3& p, ForLocals&& forLocals) const {
     s.N = kBackgroundWeight * b;
     s.gradientW = Vec3::Zero();
     s.gradientN = kBackgroundWeight * gb;
-    forLocals([&](const Local& l) {
+    forLocals([&](const Local& l, int piece) {
         const Vec3 r = p - l.center;
         const double r2 = r.squaredNorm(), R2 = l.radius * l.radius;
         if (r2 >= R2) return;
         const double sigma = 1.0 - r2 / R2, w = sigma * sigma * sigma;
         const Vec3 dw = (-6.0 * sigma * sigma / R2) * r;
         Vec3 gq;
-        const double q = evaluate(l, p, &gq);
+        const double q = evaluate(l, piece, p, &gq);
         s.W += w;
         s.N += w * q;
         s.gradientW += dw;
@@ -721,30 +721,32 @@ double MpuField::blend(const Vec3& p, Vec3& gradient, ForLocals&& forLocals) con
 }
 
 double MpuField::valueAndGradient(const Vec3& p, Vec3& gradient) const {
-    return blend(p, gradient, [&](auto&& visit) { forLocalsAt(p, visit); });
+    return blend(p, gradient, [&](auto&& visit) { forLocalsAt(p, [&](const Local& l) { visit(l, -1); }); });
 }
 
 double MpuField::valueAndGradient(const Vec3& p, Vec3& gradient, std::span<const uint32_t> locals) const {
     return blend(p, gradient, [&](auto&& visit) {
-        for (const uint32_t i : locals) visit(locals_[i]);
+        for (const uint32_t i : locals) visit(locals_[i], -1);
     });
 }
 
 double MpuField::numerator(const Vec3& p, MpuLocalList locals) const {
     double N = kBackgroundWeight * background(p, nullptr) + singleLanesNumerator(p, locals.singleLocals());
-    for (const uint32_t i : locals.otherLocals()) {
-        const Local& l = locals_[i];
+    const std::span<const uint32_t> others = locals.otherLocals();
+    for (size_t k = 0; k < others.size(); ++k) {
+        const Local& l = locals_[others[k]];
         const double r2 = (p - l.center).squaredNorm(), R2 = l.radius * l.radius;
         if (r2 >= R2) continue;
         const double sigma = 1.0 - r2 / R2;
-        N += sigma * sigma * sigma * evaluate(l, p, nullptr);
+        N += sigma * sigma * sigma * evaluate(l, locals.pieceOf(k), p, nullptr);
     }
     return N;
 }
 
 MpuBlendSums MpuField::blendSums(const Vec3& p, MpuLocalList locals) const {
     MpuBlendSums s = sums(p, [&](auto&& visit) {
-        for (const uint32_t i : locals.otherLocals()) visit(locals_[i]);
+        const std::span<const uint32_t> others = locals.otherLocals();
+        for (size_t k = 0; k < others.size(); ++k) visit(locals_[others[k]], locals.pieceOf(k));
     });
     addSingleLanes(p, locals.singleLocals(), s);
     return s;

@@ -120,14 +120,28 @@ T combineMpuPieces(const MpuLocal& l, const T* v, Larger larger, Smaller smaller
 
 /// A list of locals (indices into MpuField::locals()) whose first `singles`
 /// are single-piece locals, which sums over the list take in vector lanes.
+/// The sharp locals after them may be known to take one piece wherever the
+/// list is asked about (a tracer's part proves it over its box): the first
+/// kResolvedSharp of them carry 2 bits each in `sharpPieces`, 0 where the
+/// local may take any of its pieces, k + 1 where it takes piece k.
 struct MpuLocalList {
+    static constexpr size_t kResolvedSharp = 16;
+
     std::span<const uint32_t> indices;
     size_t singles = 0;
+    uint32_t sharpPieces = 0;
 
-    MpuLocalList(std::span<const uint32_t> all, size_t singleCount = 0) : indices(all), singles(singleCount) {}
+    MpuLocalList(std::span<const uint32_t> all, size_t singleCount = 0, uint32_t sharpPieceCodes = 0)
+        : indices(all), singles(singleCount), sharpPieces(sharpPieceCodes) {}
     std::span<const uint32_t> singleLocals() const { return indices.first(singles); }
     /// The rest, summed one by one.
     std::span<const uint32_t> otherLocals() const { return indices.subspan(singles); }
+    /// The piece the k-th of otherLocals() takes, or -1 where not known.
+    int pieceOf(size_t k) const { return k < kResolvedSharp ? int((sharpPieces >> (2 * k)) & 3u) - 1 : -1; }
+    /// The code of sharpPieces for the k-th of otherLocals() taking `piece`.
+    static uint32_t pieceCode(size_t k, int piece) {
+        return k < kResolvedSharp && piece >= 0 ? uint32_t(piece + 1) << (2 * k) : 0u;
+    }
 };
 
 /// The blend's sums at a point: f = N / W, with N = sum_i w_i Q_i and
@@ -229,8 +243,14 @@ private:
     template <class Visit>
     void forLocalsTouching(const Box3& box, Visit&& visit) const;
 
+    /// forLocals(visit) calls visit(local, piece) for each local to sum:
+    /// piece -1 where the local's combination decides, else the one it takes.
     template <class ForLocals>
     MpuBlendSums sums(const Vec3& p, ForLocals&& forLocals) const;
+    /// A local's function, or its piece `piece` where that is known (>= 0).
+    double evaluate(const Local& l, int piece, const Vec3& x, Vec3* gradient) const {
+        return piece >= 0 ? pieces_[l.first + piece].evaluate(x, gradient) : evaluate(l, x, gradient);
+    }
     /// The single-piece locals' share of the sums, in vector lanes
     /// (mpu_field_lanes.cpp, built for the machine's widest vectors).
     void addSingleLanes(const Vec3& p, std::span<const uint32_t> singles, MpuBlendSums& s) const;

@@ -286,6 +286,17 @@ void MpuLocalColumns::assign(const MpuField& field, std::span<const uint32_t> lo
     fill(field, indices_, pieces_);
 }
 
+uint32_t mpuResolvedSharpPieces(const MpuField& field, const MpuNumeratorModel& m, const MpuLocalList& list) {
+    uint32_t codes = 0;
+    const std::span<const uint32_t> others = list.otherLocals();
+    for (size_t k = 0; k < std::min(others.size(), MpuLocalList::kResolvedSharp); ++k) {
+        const MpuLocal& l = field.locals()[others[k]];
+        if (l.combination == MpuCombination::Interpolant || m.mayCrease(others[k])) continue;
+        codes |= MpuLocalList::pieceCode(k, pieceAt(field, l, m.center));
+    }
+    return codes;
+}
+
 void MpuLocalColumns::assignResolved(const MpuField& field, const MpuLocalColumns* ancestor,
                                      std::span<const uint32_t> sharp, const MpuNumeratorModel& outer) {
     sharp_.clear();

@@ -70,6 +70,11 @@ struct MpuNumeratorModel {
     }
 };
 
+/// MpuLocalList::sharpPieces for `list` over the model's box: for each of
+/// its sharp locals whose crease the model proves away from the box, the
+/// piece it takes all over the box (its piece at the centre).
+uint32_t mpuResolvedSharpPieces(const MpuField& field, const MpuNumeratorModel& m, const MpuLocalList& list);
+
 /// Taylor's remainder of a model within distance r of its centre, given M3
 /// (third), the sums' rounding and the box's half diagonal rho: value
 /// M3 r^3 / 6, slope M3 r^2 / 2, each raised for rounding.

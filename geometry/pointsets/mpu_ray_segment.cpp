@@ -53,8 +53,9 @@ MpuSegmentRoot firstRootAlongSegment(const MpuField& field, MpuLocalList locals,
     const std::vector<MpuQuadric>& pieces = field.pieces();
     // The list's single-piece locals in vector lanes; the sharp ones here.
     result.localTerms = field.addSinglesAlongSegment(p0, D, locals.singleLocals(), sum);
-    for (const uint32_t index : locals.otherLocals()) {
-        const MpuLocal& l = all[index];
+    const std::span<const uint32_t> others = locals.otherLocals();
+    for (size_t position = 0; position < others.size(); ++position) {
+        const MpuLocal& l = all[others[position]];
         // s(u) = 1 - |p0 + u D - c|^2 / R^2 = s0 + s1 u + s2 u^2; the ball is
         // s > 0. Most balls listed for a part miss the segment: test R^2 s
         // first, without a division.
@@ -71,11 +72,18 @@ MpuSegmentRoot firstRootAlongSegment(const MpuField& field, MpuLocalList locals,
         const double s0 = scaled0 * inverseR2, s1 = -2.0 * r0D * inverseR2, s2 = -DD * inverseR2;
         ++result.localTerms;
         const Monomials<6> w = composeWithQuadratic<3>({0.0, 0.0, 0.0, 1.0}, s0, s1, s2);  // s^3
+        // A piece known to be the one taken (the part's box proves it) is
+        // summed alone.
+        const int known = locals.pieceOf(position);
+        if (known >= 0) {
+            sum.add(weightedPiece(w, alongSegment(pieces[l.first + known], p0, D)), enter, leave);
+            continue;
+        }
         // The local's pieces along the segment, and the intervals of u on
         // which each is the one its combination takes.
         std::array<double, 3> q[3];
         const MpuQuadric* piece = &pieces[l.first];
-        for (int k = 0; k < l.count; ++k) q[k] = alongSegment(piece[k], p0, D);
+        for (int j = 0; j < l.count; ++j) q[j] = alongSegment(piece[j], p0, D);
         double bounds[9] = {enter};  // enter, up to 3 pairs of crossings, leave
         int boundCount = 1;
         if (l.count > 1)

@@ -73,6 +73,8 @@ struct PartModel {
 struct MpuPart {
     uint32_t first = 0, count = 0;
     uint32_t singles = 0;  ///< the list's single-piece locals, which come first
+    /// The pieces its box proves sharp locals take (MpuLocalList::sharpPieces).
+    uint32_t sharpPieces = 0;
     PartModel model;
 };
 
@@ -128,7 +130,8 @@ public:
         r.steps = 1;
         if (!(t1 >= t0)) return r;
         const MpuPart part = payload.as<MpuPart>();
-        const MpuLocalList locals(std::span<const uint32_t>(locals_.data() + part.first, part.count), part.singles);
+        const MpuLocalList locals(std::span<const uint32_t>(locals_.data() + part.first, part.count), part.singles,
+                                  part.sharpPieces);
         const double tolerance = settings.epsilon / direction.norm();
         Vec3 gradient;
         const bool hit = modelledRoot(band, part.model, locals, o, d, t0, t1, tolerance, settings.anyHit, r, gradient);
@@ -520,6 +523,10 @@ std::optional<CellAcceleration> MpuCellAccelerator::accelerate(const FieldProgra
         part.first = first;
         part.count = count;
         part.singles = uint32_t(columns.singleCount());
+        // Sharp locals whose crease stays off the box are evaluated as their
+        // one piece there.
+        part.sharpPieces = mpuResolvedSharpPieces(
+            field, m, MpuLocalList(std::span<const uint32_t>(locals.data() + first, count), part.singles));
         parts.push_back(PartPayload::store(part));
     };
     auto carve = [&](auto&& self, const Box3& b, int splits) -> void {

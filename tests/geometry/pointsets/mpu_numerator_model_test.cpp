@@ -14,6 +14,7 @@
 #include <random>
 
 #include "geometry/pointsets/mpu_numerator_model.h"
+#include "geometry/pointsets/mpu_ray_segment.h"
 #include "geometry/variational/constraints.h"
 #include "support/drilled_cube.h"
 #include "support/test_data.h"
@@ -171,4 +172,58 @@ TEST(MpuNumeratorModel, BoundsTheThirdDerivativesOverItsBox) {
         });
     EXPECT_GT(boxes, 300);
     std::printf("third derivatives reach %.3g of the bound\n", reach);
+}
+
+// A sharp local whose crease the box's model proves away from the box takes
+// one piece all over it: sums that take that piece alone (what a tracer's
+// part does) must equal the sums that let each local choose, anywhere in
+// the box: N, its gradient, N alone, and the first root along chords.
+// Boxes near the creases of the drilled cube, where pieces are resolved.
+TEST(MpuNumeratorModel, SharpLocalsResolvedToOnePieceSumAsBefore) {
+    const std::vector<MpuPoint> points = isotrace::testing::sampleDrilledCube(20000, 5);
+    const MpuField field = MpuField::fit(points);
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    std::vector<uint32_t> locals;
+    size_t resolved = 0, roots = 0;
+    forBoxesNearData(field, points, {0.002, 0.008, 0.03}, 150, Vec3::Ones(), rng,
+                     [&](const Box3& box, int i, double size) {
+            field.localsTouching(box, locals);
+            const MpuLocalList choosing = field.singlesFirst(locals);
+            const MpuNumeratorModel m = fitMpuNumeratorModel(field, box, MpuLocalColumns(field, locals));
+            const MpuLocalList taking(locals, choosing.singles, mpuResolvedSharpPieces(field, m, choosing));
+            for (size_t k = 0; k < choosing.otherLocals().size(); ++k) resolved += taking.pieceOf(k) >= 0;
+            const Vec3 c = box.center(), half = 0.5 * box.extent();
+            for (int k = 0; k < 40; ++k) {
+                const Vec3 x = c + Vec3(u(rng), u(rng), u(rng)).cwiseProduct(half);
+                const MpuBlendSums a = field.blendSums(x, choosing), b = field.blendSums(x, taking);
+                const double scale = 1e-12 * (1.0 + std::abs(a.N) + a.gradientN.norm());
+                ASSERT_NEAR(b.N, a.N, scale) << "box " << i << " of size " << size;
+                ASSERT_LE((b.gradientN - a.gradientN).norm(), scale) << "box " << i << " of size " << size;
+                ASSERT_NEAR(field.numerator(x, taking), a.N, scale) << "box " << i << " of size " << size;
+                // A chord of the box through x.
+                const Vec3 d = Vec3(u(rng), u(rng), u(rng));
+                const Vec3 from = x - 2.0 * half.norm() * d.normalized();
+                double t0 = 0.0, t1 = 4.0 * half.norm();
+                const Vec3 unit = d.normalized();
+                for (int axis = 0; axis < 3; ++axis) {
+                    if (unit[axis] == 0.0) continue;
+                    const double ta = (box.lower[axis] - from[axis]) / unit[axis], tb = (box.upper[axis] - from[axis]) / unit[axis];
+                    t0 = std::max(t0, std::min(ta, tb));
+                    t1 = std::min(t1, std::max(ta, tb));
+                }
+                if (!(t1 > t0)) continue;
+                const double tolerance = 1e-9 * size;
+                const MpuSegmentRoot ra = firstRootAlongSegment(field, choosing, from, unit, t0, t1, tolerance);
+                const MpuSegmentRoot rb = firstRootAlongSegment(field, taking, from, unit, t0, t1, tolerance);
+                ASSERT_EQ(ra.hit, rb.hit) << "box " << i << " of size " << size;
+                if (ra.hit) {
+                    ASSERT_NEAR(ra.t, rb.t, 2.0 * tolerance) << "box " << i << " of size " << size;
+                    ++roots;
+                }
+            }
+        });
+    EXPECT_GT(resolved, 1000u);  // resolved locals were summed
+    EXPECT_GT(roots, 100u);      // and crossed by chords that meet the surface
+    std::printf("%zu sharp locals resolved to one piece, %zu roots compared\n", resolved, roots);
 }
