@@ -34,7 +34,8 @@ constexpr int kMaxSplits = 2;
 // 6.9 s at 16 spp): kept at 0.1. Once M3 was taken from the parts'
 // centres (2026-12-05): 0.07 and 0.05 render in 0.97x and 0.96x the time
 // of 0.1, peak at 520 and 619 MB against 462 MB, and the whole process
-// takes 1.03x and 1.10x as long: kept.
+// takes 1.03x and 1.10x as long: kept. Under Embree's AVX2 kernels
+// (2026-12-06): 0.965x and 0.974x, the whole process 1.05x and 1.12x.
 constexpr double kModelTolerance = 0.1;
 constexpr int kMaxModelSplits = 4;
 
