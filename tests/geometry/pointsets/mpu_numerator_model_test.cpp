@@ -15,6 +15,7 @@
 
 #include "geometry/pointsets/mpu_numerator_model.h"
 #include "geometry/pointsets/mpu_ray_segment.h"
+#include "geometry/tracing/sphere_tracer.h"
 #include "geometry/variational/constraints.h"
 #include "support/drilled_cube.h"
 #include "support/test_data.h"
@@ -202,17 +203,10 @@ TEST(MpuNumeratorModel, SharpLocalsResolvedToOnePieceSumAsBefore) {
                 ASSERT_LE((b.gradientN - a.gradientN).norm(), scale) << "box " << i << " of size " << size;
                 ASSERT_NEAR(field.numerator(x, taking), a.N, scale) << "box " << i << " of size " << size;
                 // A chord of the box through x.
-                const Vec3 d = Vec3(u(rng), u(rng), u(rng));
-                const Vec3 from = x - 2.0 * half.norm() * d.normalized();
+                const Vec3 unit = Vec3(u(rng), u(rng), u(rng)).normalized();
+                const Vec3 from = x - 2.0 * half.norm() * unit;
                 double t0 = 0.0, t1 = 4.0 * half.norm();
-                const Vec3 unit = d.normalized();
-                for (int axis = 0; axis < 3; ++axis) {
-                    if (unit[axis] == 0.0) continue;
-                    const double ta = (box.lower[axis] - from[axis]) / unit[axis], tb = (box.upper[axis] - from[axis]) / unit[axis];
-                    t0 = std::max(t0, std::min(ta, tb));
-                    t1 = std::min(t1, std::max(ta, tb));
-                }
-                if (!(t1 > t0)) continue;
+                if (!clipRayToBox(box, from, unit, t0, t1) || !(t1 > t0)) continue;
                 const double tolerance = 1e-9 * size;
                 const MpuSegmentRoot ra = firstRootAlongSegment(field, choosing, from, unit, t0, t1, tolerance);
                 const MpuSegmentRoot rb = firstRootAlongSegment(field, taking, from, unit, t0, t1, tolerance);
