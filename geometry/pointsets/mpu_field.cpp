@@ -593,18 +593,30 @@ void MpuField::finish() {
     };
     index(0.0, cellStart_, cellItems_);
     index(nearMargin_, nearStart_, nearItems_);
-    // The single-piece locals' lane rows, each quadric about its ball's centre.
-    laneRows_.assign(locals_.size(), LaneRow{});
-    for (size_t i = 0; i < locals_.size(); ++i) {
-        const Local& l = locals_[i];
-        if (l.combination != MpuCombination::Single) continue;
-        const MpuQuadric& q = pieces_[l.first];
+    // Lane rows, each quadric about its ball's centre: the single-piece
+    // locals' (indexed by local), then each piece of the sharp locals (from
+    // sharpPieceRows_[local]), which a tracer's list may resolve to one.
+    auto rowOf = [&](const Local& l, const MpuQuadric& q) {
+        LaneRow lane;
         Vec3 g;
         const double c0 = q.evaluate(l.center, &g);
         const double row[kLaneColumns] = {l.center.x(), l.center.y(), l.center.z(), 1.0 / (l.radius * l.radius),
                                           c0, g.x(), g.y(), g.z(), q.A(0, 0), q.A(0, 1), q.A(0, 2), q.A(1, 1),
                                           q.A(1, 2), q.A(2, 2)};
-        std::copy(row, row + kLaneColumns, laneRows_[i].values);
+        std::copy(row, row + kLaneColumns, lane.values);
+        return lane;
+    };
+    laneRows_.assign(locals_.size(), LaneRow{});
+    sharpPieceRows_.assign(locals_.size(), 0);
+    for (size_t i = 0; i < locals_.size(); ++i) {
+        const Local& l = locals_[i];
+        if (l.combination == MpuCombination::Single) laneRows_[i] = rowOf(l, pieces_[l.first]);
+    }
+    for (size_t i = 0; i < locals_.size(); ++i) {
+        const Local& l = locals_[i];
+        if (l.combination == MpuCombination::Single || l.combination == MpuCombination::Interpolant) continue;
+        sharpPieceRows_[i] = uint32_t(laneRows_.size());
+        for (int k = 0; k < l.count; ++k) laneRows_.push_back(rowOf(l, pieces_[l.first + k]));
     }
     // Each piece's |A| (Frobenius, at least the spectral norm, slightly
     // raised for rounding): its gradient g + 2 A y moves at most 2 |A| |dy|.
@@ -730,20 +742,48 @@ double MpuField::valueAndGradient(const Vec3& p, Vec3& gradient, std::span<const
     });
 }
 
-double MpuField::numerator(const Vec3& p, MpuLocalList locals) const {
-    double N = kBackgroundWeight * background(p, nullptr) + singleLanesNumerator(p, locals.singleLocals());
-    const std::span<const uint32_t> others = locals.otherLocals();
+template <class Visit>
+size_t MpuField::laneRowsOf(MpuLocalList locals, uint32_t* rows, Visit&& visitRest) const {
+    const std::span<const uint32_t> singles = locals.singleLocals(), others = locals.otherLocals();
+    std::copy(singles.begin(), singles.end(), rows);
+    size_t count = singles.size();
     for (size_t k = 0; k < others.size(); ++k) {
-        const Local& l = locals_[others[k]];
-        const double r2 = (p - l.center).squaredNorm(), R2 = l.radius * l.radius;
-        if (r2 >= R2) continue;
-        const double sigma = 1.0 - r2 / R2;
-        N += sigma * sigma * sigma * evaluate(l, locals.pieceOf(k), p, nullptr);
+        const int piece = locals.pieceOf(k);
+        if (piece >= 0) rows[count++] = sharpPieceRows_[others[k]] + uint32_t(piece);
+        else visitRest(locals_[others[k]]);
     }
+    return count;
+}
+
+double MpuField::numerator(const Vec3& p, MpuLocalList locals) const {
+    double N = kBackgroundWeight * background(p, nullptr);
+    auto addOne = [&](const Local& l, int piece) {
+        const double r2 = (p - l.center).squaredNorm(), R2 = l.radius * l.radius;
+        if (r2 >= R2) return;
+        const double sigma = 1.0 - r2 / R2;
+        N += sigma * sigma * sigma * evaluate(l, piece, p, nullptr);
+    };
+    if (locals.indices.size() <= kLaneListCapacity) {
+        uint32_t rows[kLaneListCapacity];
+        const size_t count = laneRowsOf(locals, rows, [&](const Local& l) { addOne(l, -1); });
+        return N + singleLanesNumerator(p, std::span<const uint32_t>(rows, count));
+    }
+    N += singleLanesNumerator(p, locals.singleLocals());
+    const std::span<const uint32_t> others = locals.otherLocals();
+    for (size_t k = 0; k < others.size(); ++k) addOne(locals_[others[k]], locals.pieceOf(k));
     return N;
 }
 
 MpuBlendSums MpuField::blendSums(const Vec3& p, MpuLocalList locals) const {
+    if (locals.indices.size() <= kLaneListCapacity) {
+        uint32_t rows[kLaneListCapacity];
+        size_t count = 0;
+        MpuBlendSums s = sums(p, [&](auto&& visit) {
+            count = laneRowsOf(locals, rows, [&](const Local& l) { visit(l, -1); });
+        });
+        addSingleLanes(p, std::span<const uint32_t>(rows, count), s);
+        return s;
+    }
     MpuBlendSums s = sums(p, [&](auto&& visit) {
         const std::span<const uint32_t> others = locals.otherLocals();
         for (size_t k = 0; k < others.size(); ++k) visit(locals_[others[k]], locals.pieceOf(k));

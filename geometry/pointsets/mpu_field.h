@@ -274,7 +274,8 @@ private:
     std::vector<double> pieceCurvatures_;  ///< |A| of each piece
     /// Each single-piece local's row, its quadric taken about the ball's
     /// centre: Q = c0 + g . r + r^T A r, r = x - centre (what the vector
-    /// lanes gather). Other locals' rows are zero. A row is two aligned
+    /// lanes gather), then a row for each piece of each sharp local (from
+    /// sharpPieceRows_). Other locals' rows are zero. A row is two aligned
     /// cache lines: a local's lanes read those two, where one column per
     /// value read fourteen lines (3-4% of an MPU model's frame).
     enum LaneColumn { CenterX, CenterY, CenterZ, InverseRadius2, C0, Gx, Gy, Gz, Axx, Axy, Axz, Ayy, Ayz, Azz, kLaneColumns };
@@ -283,6 +284,17 @@ private:
     };
     static_assert(kLaneColumns <= 16);
     std::vector<LaneRow> laneRows_;
+    /// Per sharp local, the lane row of its first piece (its others follow).
+    std::vector<uint32_t> sharpPieceRows_;
+    /// Lists of up to this many locals take their resolved sharp locals in
+    /// the lanes (the rows are gathered on the stack); longer ones sum them
+    /// one by one.
+    static constexpr size_t kLaneListCapacity = 256;
+    /// Fills rows with the lane rows of `locals`: its single-piece locals'
+    /// and the pieces its sharp locals are resolved to; calls visitRest for
+    /// each of the others. Returns how many rows.
+    template <class Visit>
+    size_t laneRowsOf(MpuLocalList locals, uint32_t* rows, Visit&& visitRest) const;
     double minimumWeight_ = 0.0;
     double backgroundMargin_ = 0.0;
     size_t typicalTerms_ = 1;

@@ -179,17 +179,26 @@ TEST(MpuNumeratorModel, BoundsTheThirdDerivativesOverItsBox) {
 // one piece all over it: sums that take that piece alone (what a tracer's
 // part does) must equal the sums that let each local choose, anywhere in
 // the box: N, its gradient, N alone, and the first root along chords.
-// Boxes near the creases of the drilled cube, where pieces are resolved.
+// Boxes near the creases of the drilled cube, where pieces are resolved;
+// the resolved pieces go to the vector lanes with the single-piece locals,
+// except in lists too long for the lanes' row list, which sum them one by
+// one: there the list is that of a large box around the small one.
 TEST(MpuNumeratorModel, SharpLocalsResolvedToOnePieceSumAsBefore) {
     const std::vector<MpuPoint> points = isotrace::testing::sampleDrilledCube(20000, 5);
     const MpuField field = MpuField::fit(points);
     std::mt19937 rng(11);
     std::uniform_real_distribution<double> u(-1.0, 1.0);
     std::vector<uint32_t> locals;
-    size_t resolved = 0, roots = 0;
-    forBoxesNearData(field, points, {0.002, 0.008, 0.03}, 150, Vec3::Ones(), rng,
-                     [&](const Box3& box, int i, double size) {
+    size_t resolved = 0, roots = 0, longLists = 0;
+    std::vector<uint32_t> around;
+    auto compare = [&](const Box3& box, const Box3& listBox, int i, double size) {
+            // The box's own locals first (the list's first sharp locals are
+            // the ones resolved), then the rest of the list box's.
             field.localsTouching(box, locals);
+            field.localsTouching(listBox, around);
+            for (const uint32_t l : around)
+                if (std::find(locals.begin(), locals.end(), l) == locals.end()) locals.push_back(l);
+            longLists += locals.size() > 256;
             const MpuLocalList choosing = field.singlesFirst(locals);
             const MpuNumeratorModel m = fitMpuNumeratorModel(field, box, MpuLocalColumns(field, locals));
             const MpuLocalList taking(locals, choosing.singles, mpuResolvedSharpPieces(field, m, choosing));
@@ -216,8 +225,16 @@ TEST(MpuNumeratorModel, SharpLocalsResolvedToOnePieceSumAsBefore) {
                     ++roots;
                 }
             }
-        });
+        };
+    forBoxesNearData(field, points, {0.002, 0.008, 0.03}, 150, Vec3::Ones(), rng,
+                     [&](const Box3& box, int i, double size) { compare(box, box, i, size); });
+    const double diagonal = field.bounds().extent().norm();
+    forBoxesNearData(field, points, {0.008}, 20, Vec3::Ones(), rng, [&](const Box3& box, int i, double size) {
+        compare(box, box.expanded(0.15 * diagonal), i, size);
+    });
     EXPECT_GT(resolved, 1000u);  // resolved locals were summed
     EXPECT_GT(roots, 100u);      // and crossed by chords that meet the surface
-    std::printf("%zu sharp locals resolved to one piece, %zu roots compared\n", resolved, roots);
+    EXPECT_GT(longLists, 0u);    // lists past the lanes' row list were summed too
+    std::printf("%zu sharp locals resolved to one piece, %zu roots compared, %zu long lists\n", resolved, roots,
+                longLists);
 }
