@@ -251,10 +251,12 @@ private:
     double evaluate(const Local& l, int piece, const Vec3& x, Vec3* gradient) const {
         return piece >= 0 ? pieces_[l.first + piece].evaluate(x, gradient) : evaluate(l, x, gradient);
     }
-    /// The single-piece locals' share of the sums, in vector lanes
-    /// (mpu_field_lanes.cpp, built for the machine's widest vectors).
-    void addSingleLanes(const Vec3& p, std::span<const uint32_t> singles, MpuBlendSums& s) const;
-    double singleLanesNumerator(const Vec3& p, std::span<const uint32_t> singles) const;
+    /// The share of the sums of the one-piece terms whose lane rows are
+    /// listed (single-piece locals, and pieces sharp locals are resolved
+    /// to), in vector lanes (mpu_field_lanes.cpp, built for the machine's
+    /// widest vectors).
+    void addSingleLanes(const Vec3& p, std::span<const uint32_t> rows, MpuBlendSums& s) const;
+    double singleLanesNumerator(const Vec3& p, std::span<const uint32_t> rows) const;
     template <class ForLocals>
     double blend(const Vec3& p, Vec3& gradient, ForLocals&& forLocals) const;
     double background(const Vec3& p, Vec3* gradient) const;

@@ -14,16 +14,16 @@ namespace {
 
 using std::experimental::reduce;
 
-// Calls visit(load, valid) for each run of Lanes::size() locals of
-// `singles`: load(column) gathers that column of their lane rows; lanes past
-// the list's end repeat its first local and are not valid.
+// Calls visit(load, valid) for each run of Lanes::size() of the rows
+// `listed` names: load(column) gathers that column of the run's rows; lanes
+// past the list's end repeat its first row and are not valid.
 template <class Row, class Visit>
-void forLaneRuns(const std::vector<Row>& rows, std::span<const uint32_t> singles, Visit&& visit) {
+void forLaneRuns(const std::vector<Row>& rows, std::span<const uint32_t> listed, Visit&& visit) {
     constexpr size_t kWidth = Lanes::size();
-    for (size_t first = 0; first < singles.size(); first += kWidth) {
-        const size_t count = std::min(kWidth, singles.size() - first);
+    for (size_t first = 0; first < listed.size(); first += kWidth) {
+        const size_t count = std::min(kWidth, listed.size() - first);
         uint32_t index[kWidth];
-        for (size_t j = 0; j < kWidth; ++j) index[j] = singles[first + (j < count ? j : 0)];
+        for (size_t j = 0; j < kWidth; ++j) index[j] = listed[first + (j < count ? j : 0)];
         auto load = [&](int column) { return Lanes([&](auto j) { return rows[index[j]].values[column]; }); };
         visit(load, firstLanes(count));
     }
@@ -31,9 +31,9 @@ void forLaneRuns(const std::vector<Row>& rows, std::span<const uint32_t> singles
 
 }  // namespace
 
-void MpuField::addSingleLanes(const Vec3& p, std::span<const uint32_t> singles, MpuBlendSums& s) const {
+void MpuField::addSingleLanes(const Vec3& p, std::span<const uint32_t> rows, MpuBlendSums& s) const {
     Lanes W = 0.0, N = 0.0, wx = 0.0, wy = 0.0, wz = 0.0, nx = 0.0, ny = 0.0, nz = 0.0;
-    forLaneRuns(laneRows_, singles, [&](auto&& load, const Lanes::mask_type& valid) {
+    forLaneRuns(laneRows_, rows, [&](auto&& load, const Lanes::mask_type& valid) {
         const Lanes rx = p.x() - load(CenterX), ry = p.y() - load(CenterY), rz = p.z() - load(CenterZ);
         const Lanes inverseR2 = load(InverseRadius2);
         const Lanes s1 = 1.0 - (rx * rx + ry * ry + rz * rz) * inverseR2;
@@ -62,9 +62,9 @@ void MpuField::addSingleLanes(const Vec3& p, std::span<const uint32_t> singles, 
     s.gradientN += Vec3(reduce(nx), reduce(ny), reduce(nz));
 }
 
-double MpuField::singleLanesNumerator(const Vec3& p, std::span<const uint32_t> singles) const {
+double MpuField::singleLanesNumerator(const Vec3& p, std::span<const uint32_t> rows) const {
     Lanes N = 0.0;
-    forLaneRuns(laneRows_, singles, [&](auto&& load, const Lanes::mask_type& valid) {
+    forLaneRuns(laneRows_, rows, [&](auto&& load, const Lanes::mask_type& valid) {
         const Lanes rx = p.x() - load(CenterX), ry = p.y() - load(CenterY), rz = p.z() - load(CenterZ);
         const Lanes s1 = 1.0 - (rx * rx + ry * ry + rz * rz) * load(InverseRadius2);
         const Lanes::mask_type inside = valid && s1 > 0.0;
