@@ -742,53 +742,49 @@ double MpuField::valueAndGradient(const Vec3& p, Vec3& gradient, std::span<const
     });
 }
 
-template <class Visit>
-size_t MpuField::laneRowsOf(MpuLocalList locals, uint32_t* rows, Visit&& visitRest) const {
+template <class OnRows, class VisitRest>
+void MpuField::forLaneRowsOf(MpuLocalList locals, OnRows&& onRows, VisitRest&& visitRest) const {
     const std::span<const uint32_t> singles = locals.singleLocals(), others = locals.otherLocals();
+    if (locals.indices.size() > kLaneListCapacity) {
+        onRows(singles);
+        for (size_t k = 0; k < others.size(); ++k) visitRest(locals_[others[k]], locals.pieceOf(k));
+        return;
+    }
+    uint32_t rows[kLaneListCapacity];
     std::copy(singles.begin(), singles.end(), rows);
     size_t count = singles.size();
     for (size_t k = 0; k < others.size(); ++k) {
         const int piece = locals.pieceOf(k);
         if (piece >= 0) rows[count++] = sharpPieceRows_[others[k]] + uint32_t(piece);
-        else visitRest(locals_[others[k]]);
+        else visitRest(locals_[others[k]], -1);
     }
-    return count;
+    onRows(std::span<const uint32_t>(rows, count));
 }
 
 double MpuField::numerator(const Vec3& p, MpuLocalList locals) const {
     double N = kBackgroundWeight * background(p, nullptr);
-    auto addOne = [&](const Local& l, int piece) {
-        const double r2 = (p - l.center).squaredNorm(), R2 = l.radius * l.radius;
-        if (r2 >= R2) return;
-        const double sigma = 1.0 - r2 / R2;
-        N += sigma * sigma * sigma * evaluate(l, piece, p, nullptr);
-    };
-    if (locals.indices.size() <= kLaneListCapacity) {
-        uint32_t rows[kLaneListCapacity];
-        const size_t count = laneRowsOf(locals, rows, [&](const Local& l) { addOne(l, -1); });
-        return N + singleLanesNumerator(p, std::span<const uint32_t>(rows, count));
-    }
-    N += singleLanesNumerator(p, locals.singleLocals());
-    const std::span<const uint32_t> others = locals.otherLocals();
-    for (size_t k = 0; k < others.size(); ++k) addOne(locals_[others[k]], locals.pieceOf(k));
+    forLaneRowsOf(
+        locals, [&](std::span<const uint32_t> rows) { N += singleLanesNumerator(p, rows); },
+        [&](const Local& l, int piece) {
+            const double r2 = (p - l.center).squaredNorm(), R2 = l.radius * l.radius;
+            if (r2 >= R2) return;
+            const double sigma = 1.0 - r2 / R2;
+            N += sigma * sigma * sigma * evaluate(l, piece, p, nullptr);
+        });
     return N;
 }
 
 MpuBlendSums MpuField::blendSums(const Vec3& p, MpuLocalList locals) const {
-    if (locals.indices.size() <= kLaneListCapacity) {
-        uint32_t rows[kLaneListCapacity];
-        size_t count = 0;
-        MpuBlendSums s = sums(p, [&](auto&& visit) {
-            count = laneRowsOf(locals, rows, [&](const Local& l) { visit(l, -1); });
-        });
-        addSingleLanes(p, std::span<const uint32_t>(rows, count), s);
-        return s;
-    }
+    // The lanes' share is summed apart and added last, as sums() adds its
+    // terms one by one: the same sums, bit for bit, whichever path.
+    MpuBlendSums lanes;
     MpuBlendSums s = sums(p, [&](auto&& visit) {
-        const std::span<const uint32_t> others = locals.otherLocals();
-        for (size_t k = 0; k < others.size(); ++k) visit(locals_[others[k]], locals.pieceOf(k));
+        forLaneRowsOf(locals, [&](std::span<const uint32_t> rows) { addSingleLanes(p, rows, lanes); }, visit);
     });
-    addSingleLanes(p, locals.singleLocals(), s);
+    s.N += lanes.N;
+    s.W += lanes.W;
+    s.gradientN += lanes.gradientN;
+    s.gradientW += lanes.gradientW;
     return s;
 }
 

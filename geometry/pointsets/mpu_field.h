@@ -292,11 +292,12 @@ private:
     /// the lanes (the rows are gathered on the stack); longer ones sum them
     /// one by one.
     static constexpr size_t kLaneListCapacity = 256;
-    /// Fills rows with the lane rows of `locals`: its single-piece locals'
-    /// and the pieces its sharp locals are resolved to; calls visitRest for
-    /// each of the others. Returns how many rows.
-    template <class Visit>
-    size_t laneRowsOf(MpuLocalList locals, uint32_t* rows, Visit&& visitRest) const;
+    /// Splits `locals` for the vector lanes: calls onRows(rows) once with
+    /// lane rows (the single-piece locals', and the pieces the sharp locals
+    /// are resolved to where the list fits the stack) and visitRest(local,
+    /// piece) for each local the lanes do not take.
+    template <class OnRows, class VisitRest>
+    void forLaneRowsOf(MpuLocalList locals, OnRows&& onRows, VisitRest&& visitRest) const;
     double minimumWeight_ = 0.0;
     double backgroundMargin_ = 0.0;
     size_t typicalTerms_ = 1;
