@@ -9,7 +9,8 @@
 // Stanford bunny), written as PLY, fitted again from its vertices and
 // normals.
 //
-//   mpu_render [width [spp]]        (defaults: 320, 4; the setting is 640 16)
+//   mpu_render [width [spp [rounds]]]   (defaults: 320, 4, 3; the setting is 640 16;
+//                                        shared hosts drift, and 9 or more rounds steady the ratios)
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -27,8 +28,6 @@
 #include "renderer/scene_loader.h"
 
 using namespace isotrace;
-
-constexpr int kRounds = 3;
 
 namespace {
 
@@ -73,6 +72,7 @@ Steps countSteps(const Scene& scene, int width, int height) {
 int main(int argc, char** argv) {
     const int width = argc > 1 ? std::atoi(argv[1]) : 320, height = width * 3 / 4;
     const int spp = argc > 2 ? std::atoi(argv[2]) : 4;
+    const int rounds = argc > 3 ? std::max(1, std::atoi(argv[3])) : 3;
     const std::string scenes = std::string(ISOTRACE_SOURCE_DIR) + "/scenes";
     struct Case {
         const char* name;
@@ -147,17 +147,17 @@ int main(int argc, char** argv) {
         options.seed = 1;
         options.quiet = true;
         std::vector<std::vector<double>> seconds(objects.size());
-        for (int round = 0; round < kRounds; ++round)
+        for (int round = 0; round < rounds; ++round)
             for (size_t i = 0; i < objects.size(); ++i) {
                 const auto start = std::chrono::steady_clock::now();
                 render(*loaded[i], options);
                 seconds[i].push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
             }
         for (size_t i = 0; i < objects.size(); ++i)
-            std::printf("  %-20s render %8.3f s (median of %d)\n", names[i].c_str(), bench::median(seconds[i]), kRounds);
+            std::printf("  %-20s render %8.3f s (median of %d)\n", names[i].c_str(), bench::median(seconds[i]), rounds);
         auto ratio = [&](size_t other, const char* label) {
             std::vector<double> ratios;
-            for (int round = 0; round < kRounds; ++round) ratios.push_back(seconds[0][round] / seconds[other][round]);
+            for (int round = 0; round < rounds; ++round) ratios.push_back(seconds[0][round] / seconds[other][round]);
             std::printf("  implicit / %s: render %.2fx (median of the rounds' ratios; %.2f to %.2f)\n", label,
                         bench::median(ratios), *std::min_element(ratios.begin(), ratios.end()),
                         *std::max_element(ratios.begin(), ratios.end()));
