@@ -39,41 +39,36 @@ RTCDevice Scene::device() const {
     return device_;
 }
 
+namespace {
+// A mesh's triangles as an Embree geometry of `scene` with id `id`, its
+// buffers shared (an empty mesh adds nothing: there is nothing to hit).
+void attachTriangles(RTCDevice device, RTCScene scene, const TriangleMesh& mesh, unsigned id) {
+    if (mesh.triangleCount() == 0) return;
+    RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+    rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, mesh.positions.data(), 0,
+                               3 * sizeof(float), mesh.vertexCount());
+    rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, mesh.indices.data(), 0,
+                               3 * sizeof(uint32_t), mesh.triangleCount());
+    rtcCommitGeometry(g);
+    rtcAttachGeometryByID(scene, g, id);
+    rtcReleaseGeometry(g);
+}
+}  // namespace
+
 void Scene::commit() {
     device();  // created now, if nothing asked for it before
-    // One Embree scene per shape, shared by every object that places it.
-    std::vector<RTCScene> meshScenes, surfaceScenes;
-    for (const auto& mesh : meshes) {
-        RTCScene s = rtcNewScene(device_);
-        if (mesh->triangleCount() == 0) {  // an empty polygonization: nothing to hit
-            rtcCommitScene(s);
-            meshScenes.push_back(s);
-            shapeScenes_.push_back(s);
-            continue;
-        }
-        RTCGeometry g = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
-        rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, mesh->positions.data(), 0,
-                                   3 * sizeof(float), mesh->vertexCount());
-        rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, mesh->indices.data(), 0,
-                                   3 * sizeof(uint32_t), mesh->triangleCount());
-        rtcCommitGeometry(g);
-        rtcAttachGeometry(s, g);
-        rtcReleaseGeometry(g);
-        rtcCommitScene(s);
-        meshScenes.push_back(s);
-        shapeScenes_.push_back(s);
-    }
-    // A surface that objects place only as it is goes into the top scene
-    // itself (below): its own scene is built only if asked for (shapeScene).
-    std::vector<bool> instanced(surfaces.size(), false);
+    // One Embree scene per mesh and per surface, shared by every object
+    // that places it with a transform. A shape that objects place only as
+    // it is goes into the top scene itself (below): its own scene is built
+    // only if asked for (shapeScene).
+    const size_t shapes = meshes.size() + surfaces.size();
+    std::vector<bool> instanced(shapes, false);
     for (const SceneObject& o : objects)
-        if (o.kind == SceneObject::Kind::Implicit && !attachedAsIs(o)) instanced[o.shape] = true;
-    surfaceSceneBuilt_.assign(surfaces.size(), false);
-    for (size_t i = 0; i < surfaces.size(); ++i) {
-        RTCScene s = rtcNewScene(device_);
-        surfaceScenes.push_back(s);
-        shapeScenes_.push_back(s);
-        if (instanced[i]) buildSurfaceScene(i);
+        if (o.kind != SceneObject::Kind::Discs && !attachedAsIs(o)) instanced[shapeIndex(o)] = true;
+    shapeSceneBuilt_.assign(shapes, false);
+    for (size_t i = 0; i < shapes; ++i) {
+        shapeScenes_.push_back(rtcNewScene(device_));
+        if (instanced[i]) buildShapeScene(i);
     }
     std::vector<RTCScene> discScenes;
     for (const auto& set : discs) {
@@ -100,14 +95,17 @@ void Scene::commit() {
         o.objectFromWorldScale = 1.0 / std::cbrt(std::abs(o.worldFromObject.topLeftCorner<3, 3>().determinant()));
         if (attachedAsIs(o)) {
             // Without an instance between, a ray skips Embree's instance
-            // step: the CSG and tangle Whitted previews render 2-4% faster.
-            geometry::attachImplicitSurfaceAs(device_, top_, *surfaces[o.shape], static_cast<unsigned>(i));
+            // step: the CSG and tangle Whitted previews render 2-4% faster,
+            // the 37,934-vertex mesh of bench/mpu_render (path, 16 spp) 7%.
+            if (o.kind == SceneObject::Kind::Mesh)
+                attachTriangles(device_, top_, *meshes[o.shape], static_cast<unsigned>(i));
+            else
+                geometry::attachImplicitSurfaceAs(device_, top_, *surfaces[o.shape], static_cast<unsigned>(i));
             continue;
         }
         RTCGeometry inst = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_INSTANCE);
-        rtcSetGeometryInstancedScene(inst, o.kind == SceneObject::Kind::Mesh       ? meshScenes[o.shape]
-                                           : o.kind == SceneObject::Kind::Implicit ? surfaceScenes[o.shape]
-                                                                                   : discScenes[o.shape]);
+        rtcSetGeometryInstancedScene(inst, o.kind == SceneObject::Kind::Discs ? discScenes[o.shape]
+                                                                              : shapeScenes_[shapeIndex(o)]);
         Eigen::Matrix<float, 3, 4> m = o.worldFromObject.topRows<3>().cast<float>();
         // Column-major 3x4, as Embree's FLOAT3X4_COLUMN_MAJOR expects.
         rtcSetGeometryTransform(inst, 0, RTC_FORMAT_FLOAT3X4_COLUMN_MAJOR, m.data());
@@ -119,15 +117,20 @@ void Scene::commit() {
 }
 
 bool Scene::attachedAsIs(const SceneObject& object) {
-    return object.kind == SceneObject::Kind::Implicit && object.worldFromObject.isIdentity();
+    return object.kind != SceneObject::Kind::Discs && object.worldFromObject.isIdentity();
 }
 
-void Scene::buildSurfaceScene(size_t surface) const {
-    if (surfaceSceneBuilt_[surface]) return;
-    RTCScene s = shapeScenes_[meshes.size() + surface];
-    geometry::attachImplicitSurface(device_, s, *surfaces[surface]);
+size_t Scene::shapeIndex(const SceneObject& object) const {
+    return object.kind == SceneObject::Kind::Mesh ? object.shape : meshes.size() + object.shape;
+}
+
+void Scene::buildShapeScene(size_t shape) const {
+    if (shapeSceneBuilt_[shape]) return;
+    RTCScene s = shapeScenes_[shape];
+    if (shape < meshes.size()) attachTriangles(device_, s, *meshes[shape], 0);
+    else geometry::attachImplicitSurface(device_, s, *surfaces[shape - meshes.size()]);
     rtcCommitScene(s);
-    surfaceSceneBuilt_[surface] = true;
+    shapeSceneBuilt_[shape] = true;
 }
 
 geometry::Box3 Scene::bounds() const {

@@ -95,28 +95,26 @@ public:
     /// The world bounds of every object (after commit).
     geometry::Box3 bounds() const;
     /// The Embree scene of the shape an object places, in the shape's own
-    /// space (after commit): for tracing one object alone. A surface's is
-    /// built on the first call (not thread-safe: ask while loading).
+    /// space (after commit): for tracing one object alone. A mesh's or a
+    /// surface's is built on the first call when no object instances it
+    /// (not thread-safe: ask while loading).
     RTCScene shapeScene(const SceneObject& object) const {
-        switch (object.kind) {
-            case SceneObject::Kind::Mesh: return shapeScenes_[object.shape];
-            case SceneObject::Kind::Implicit:
-                buildSurfaceScene(object.shape);
-                return shapeScenes_[meshes.size() + object.shape];
-            case SceneObject::Kind::Discs: break;
-        }
-        return shapeScenes_[meshes.size() + surfaces.size() + object.shape];
+        if (object.kind == SceneObject::Kind::Discs) return shapeScenes_[meshes.size() + surfaces.size() + object.shape];
+        buildShapeScene(shapeIndex(object));
+        return shapeScenes_[shapeIndex(object)];
     }
 
 private:
-    /// Implicit objects with no transform are attached to the top scene
-    /// as they are, not instanced.
+    /// Mesh and implicit objects with no transform are attached to the top
+    /// scene as they are, not instanced.
     static bool attachedAsIs(const SceneObject& object);
-    /// Fills and commits a surface's own scene, once (see commit).
-    void buildSurfaceScene(size_t surface) const;
+    /// A mesh's or surface's place in shapeScenes_ (meshes first).
+    size_t shapeIndex(const SceneObject& object) const;
+    /// Fills and commits a mesh's or surface's own scene, once (see commit).
+    void buildShapeScene(size_t shape) const;
 
     mutable RTCDevice device_ = nullptr;
-    mutable std::vector<bool> surfaceSceneBuilt_;
+    mutable std::vector<bool> shapeSceneBuilt_;
     RTCScene top_ = nullptr;
     std::vector<RTCScene> shapeScenes_;
 };
