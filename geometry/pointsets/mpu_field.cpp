@@ -179,6 +179,10 @@ public:
         // In world units h = radius H(s / radius, t / radius).
         const double a = x[0] / radius_, b = x[1] / radius_, c = x[2] / radius_;
         q.A = -(a * u * u.transpose() + 0.5 * b * (u * v.transpose() + v * u.transpose()) + c * v * v.transpose());
+        // Symmetric to the last bit ((a u_i) u_j and (a u_j) u_i may round
+        // apart): a saved fit keeps the upper triangle, and a fit loaded
+        // from the cache must evaluate as the fresh one did.
+        q.A = (0.5 * (q.A + q.A.transpose())).eval();
         q.g = normal - x[3] * u - x[4] * v;
         q.c0 = -x[5] * radius_;
         return q;
