@@ -70,7 +70,6 @@ void Scene::commit() {
         shapeScenes_.push_back(rtcNewScene(device_));
         if (instanced[i]) buildShapeScene(i);
     }
-    std::vector<RTCScene> discScenes;
     for (const auto& set : discs) {
         RTCScene s = rtcNewScene(device_);
         if (set->count() > 0) {
@@ -84,7 +83,6 @@ void Scene::commit() {
             rtcReleaseGeometry(g);
         }
         rtcCommitScene(s);
-        discScenes.push_back(s);
         shapeScenes_.push_back(s);
     }
     top_ = rtcNewScene(device_);
@@ -104,8 +102,7 @@ void Scene::commit() {
             continue;
         }
         RTCGeometry inst = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_INSTANCE);
-        rtcSetGeometryInstancedScene(inst, o.kind == SceneObject::Kind::Discs ? discScenes[o.shape]
-                                                                              : shapeScenes_[shapeIndex(o)]);
+        rtcSetGeometryInstancedScene(inst, shapeScenes_[shapeIndex(o)]);
         Eigen::Matrix<float, 3, 4> m = o.worldFromObject.topRows<3>().cast<float>();
         // Column-major 3x4, as Embree's FLOAT3X4_COLUMN_MAJOR expects.
         rtcSetGeometryTransform(inst, 0, RTC_FORMAT_FLOAT3X4_COLUMN_MAJOR, m.data());
@@ -121,7 +118,12 @@ bool Scene::attachedAsIs(const SceneObject& object) {
 }
 
 size_t Scene::shapeIndex(const SceneObject& object) const {
-    return object.kind == SceneObject::Kind::Mesh ? object.shape : meshes.size() + object.shape;
+    switch (object.kind) {
+        case SceneObject::Kind::Mesh: return object.shape;
+        case SceneObject::Kind::Implicit: return meshes.size() + object.shape;
+        case SceneObject::Kind::Discs: break;
+    }
+    return meshes.size() + surfaces.size() + object.shape;
 }
 
 void Scene::buildShapeScene(size_t shape) const {

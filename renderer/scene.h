@@ -99,8 +99,7 @@ public:
     /// surface's is built on the first call when no object instances it
     /// (not thread-safe: ask while loading).
     RTCScene shapeScene(const SceneObject& object) const {
-        if (object.kind == SceneObject::Kind::Discs) return shapeScenes_[meshes.size() + surfaces.size() + object.shape];
-        buildShapeScene(shapeIndex(object));
+        if (object.kind != SceneObject::Kind::Discs) buildShapeScene(shapeIndex(object));  // discs' are always built
         return shapeScenes_[shapeIndex(object)];
     }
 
@@ -108,7 +107,7 @@ private:
     /// Mesh and implicit objects with no transform are attached to the top
     /// scene as they are, not instanced.
     static bool attachedAsIs(const SceneObject& object);
-    /// A mesh's or surface's place in shapeScenes_ (meshes first).
+    /// A shape's place in shapeScenes_: meshes, then surfaces, then disc sets.
     size_t shapeIndex(const SceneObject& object) const;
     /// Fills and commits a mesh's or surface's own scene, once (see commit).
     void buildShapeScene(size_t shape) const;
