@@ -770,10 +770,8 @@ double MpuField::numerator(const Vec3& p, MpuLocalList locals) const {
     forLaneRowsOf(
         locals, [&](std::span<const uint32_t> rows) { N += singleLanesNumerator(p, rows); },
         [&](const Local& l, int piece) {
-            const double r2 = (p - l.center).squaredNorm(), R2 = l.radius * l.radius;
-            if (r2 >= R2) return;
-            const double sigma = 1.0 - r2 / R2;
-            N += sigma * sigma * sigma * evaluate(l, piece, p, nullptr);
+            const double w = mpuWeight((p - l.center).squaredNorm(), l.radius * l.radius);
+            if (w > 0.0) N += w * evaluate(l, piece, p, nullptr);
         });
     return N;
 }
