@@ -81,6 +81,8 @@ public:
     double globalLipschitz() const { return globalLipschitz_; }
     /// Cells marched by an accelerator rather than the general tracer.
     size_t acceleratedCellCount() const;
+    /// The accelerators' tracers those cells share (CellTracer::absorb).
+    size_t tracerCount() const { return tracers_.size(); }
 
     /// Nearest hit in one cell for t in (tNear, tFar); counts its work.
     /// With anyHit (occlusion), any hit in the segment (TraceSettings::anyHit).
@@ -102,7 +104,7 @@ private:
     Box3 refinementRoot_;
     std::vector<SurfaceCell> cells_;
     std::vector<FieldProgram> programs_;
-    std::vector<std::unique_ptr<const CellTracer>> tracers_;
+    std::vector<std::unique_ptr<CellTracer>> tracers_;
     TraceSettings settings_;
     double globalLipschitz_ = 0.0;
 };

@@ -114,8 +114,29 @@ class MpuCellTracer final : public CellTracer {
 public:
     MpuCellTracer(std::shared_ptr<const MpuField> field, const LeafPlacement& placement, std::vector<Box3> leafBoxes,
                   std::vector<uint32_t> locals)
-        : field_(std::move(field)), placement_(placement),
+        : field_(std::move(field)), placement_(placement), partCount_(leafBoxes.size()),
           leafBoxes_(placement.identity ? std::vector<Box3>() : std::move(leafBoxes)), locals_(std::move(locals)) {}
+
+    // Another cell's parts of the same field, placed alike: their lists
+    // join this tracer's, each part's `first` moved past the lists before.
+    std::optional<uint32_t> absorb(CellAcceleration& other) override {
+        auto* o = dynamic_cast<MpuCellTracer*>(other.tracer.get());
+        if (!o || o->field_ != field_ || !samePlacement(o->placement_)) return std::nullopt;
+        constexpr size_t kLimit = std::numeric_limits<uint32_t>::max();
+        if (locals_.size() + o->locals_.size() > kLimit || partCount_ + o->partCount_ > kLimit) return std::nullopt;
+        const auto offset = uint32_t(locals_.size());
+        for (PartPayload& payload : other.payloads) {
+            MpuPart part = payload.as<MpuPart>();
+            part.first += offset;
+            payload = PartPayload::store(part);
+        }
+        locals_.insert(locals_.end(), o->locals_.begin(), o->locals_.end());
+        leafBoxes_.insert(leafBoxes_.end(), o->leafBoxes_.begin(), o->leafBoxes_.end());
+        const auto firstPart = uint32_t(partCount_);
+        partCount_ += o->partCount_;
+        other.tracer.reset();
+        return firstPart;
+    }
 
     CellTraceResult trace(uint32_t index, const PartBand& band, const PartPayload& payload, const Vec3& origin,
                           const Vec3& direction, double t0, double t1, const TraceSettings& settings) const override {
@@ -430,8 +451,14 @@ private:
     };
     static thread_local LastSign lastSign_;
 
+    bool samePlacement(const LeafPlacement& p) const {
+        return p.identity == placement_.identity && p.linear == placement_.linear && p.offset == placement_.offset &&
+               p.valueScale == placement_.valueScale && p.gradientScale == placement_.gradientScale;
+    }
+
     std::shared_ptr<const MpuField> field_;
     LeafPlacement placement_;
+    size_t partCount_ = 0;  ///< parts of all the cells it marches
     /// Each part's box in the leaf's frame, where that is not the world's
     /// (the world box, which the caller clips to, serves otherwise).
     std::vector<Box3> leafBoxes_;

@@ -197,7 +197,7 @@ uint64_t surfaceKey(const PolynomialField& field, const LeafPlacement& placement
 }  // namespace
 
 template <int Degree>
-std::unique_ptr<const CellTracer> PolynomialCellAccelerator::tracerFor(const PolynomialField& field,
+std::unique_ptr<CellTracer> PolynomialCellAccelerator::tracerFor(const PolynomialField& field,
                                                                       const LeafPlacement& placement, uint64_t key,
                                                                       bool negated, const Box3& part) const {
     std::shared_ptr<const void>* shared;

@@ -31,7 +31,7 @@ public:
 
 private:
     template <int Degree>
-    std::unique_ptr<const CellTracer> tracerFor(const PolynomialField& field, const LeafPlacement& placement,
+    std::unique_ptr<CellTracer> tracerFor(const PolynomialField& field, const LeafPlacement& placement,
                                                 uint64_t key, bool negated, const Box3& part) const;
 
     // The surfaces the cells share, by content key (cells are offered in

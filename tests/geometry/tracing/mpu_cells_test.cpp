@@ -31,6 +31,20 @@ TEST(MpuCells, AgreeWithMarchingOnAScan) {
     expectSameHits(MpuField::fit(points), 600);
 }
 
+// The octree cells of one field hand their parts to one tracer, which a
+// ray offered any part then finds in cache; the agreement tests above check
+// that the parts keep their own lists and boxes in it.
+TEST(MpuCells, CellsOfOneFieldShareOneTracer) {
+    FieldProgram program;
+    program.addLeaf(MpuLeafField{std::make_shared<const MpuField>(
+                        MpuField::fit(isotrace::testing::sampleDrilledCube(20000, 9)))},
+                    isotrace::testing::turnedPlacement(0.6, Vec3(0.05, -0.1, 0.02), 1.0));
+    const ImplicitSurface surface(program);
+    EXPECT_GT(surface.acceleratedCellCount(), 1000u);
+    EXPECT_EQ(surface.acceleratedCellCount(), surface.cells().size());
+    EXPECT_EQ(surface.tracerCount(), 1u);
+}
+
 TEST(MpuCells, AgreeWithMarchingAcrossSharpEdges) {
     expectSameHits(MpuField::fit(isotrace::testing::sampleDrilledCube(20000, 9)), 1500);
 }
