@@ -45,10 +45,18 @@ struct MpuNumeratorModel {
     /// does.
     double hessianError = 0.0;
     /// M3, the bound on N's third directional derivatives over the box, the
-    /// box's half diagonal rho and the sums' rounding: valueError and
-    /// slopeError are mpuTaylorRemainder at rho (plus the creases' share),
-    /// and within distance r of the centre the remainder at r holds.
+    /// box's half diagonal rho and the sums' rounding.
     double third = 0.0, halfDiagonal = 0.0, rounding = 0.0;
+    /// What stands for M3 in Taylor's remainders of value and slope within
+    /// the box (mpuTaylorRemainder; at most `third`): within distance r of
+    /// the centre, value and slope errors are mpuTaylorRemainder at r (plus
+    /// the creases' share, where valueError and slopeError hold instead).
+    /// Where N's third derivatives are taken from their values T3 at the
+    /// centre and M4 bounds the fourth, the remainders integrate
+    /// |T3| + M4 s at distance s, not the worst |T3| + M4 rho all along:
+    /// value |T3| r^3 / 6 + M4 r^4 / 24, slope |T3| r^2 / 2 + M4 r^3 / 6,
+    /// within those of |T3| + M4 rho / 3 for r <= rho.
+    double remainderThird = 0.0;
     /// The sharp locals whose crease may cross the box (all of them when
     /// creasedCount is -1, past kMaxCreased): boxes inside resolve the
     /// others to one piece (MpuLocalColumns::assignResolved).
