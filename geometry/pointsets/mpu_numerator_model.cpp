@@ -194,6 +194,8 @@ struct ErrorSums {
     /// M3 over the box, and what stands for it in the remainders of value,
     /// slope and Hessian (see thirdFromCentre).
     double third = 0.0, valueThird = 0.0, slopeThird = 0.0, hessianThird = 0.0;
+    /// Errors of balls bounded directly, the same at any distance.
+    double directValue = 0.0, directSlope = 0.0, directHessian = 0.0;
     double scale = 0.0, creaseValue = 0.0, creaseSlope = 0.0;
 
     void addThird(double bound) {
@@ -255,15 +257,19 @@ void addLocal(const MpuField& field, uint32_t index, const Interval& distance, c
 void setErrors(MpuNumeratorModel& m, const ErrorSums& sums, double rho) {
     // Rounding: exact sums are evaluated to about 1e-16 of their terms.
     const double rounding = 1e-12 * sums.scale;
-    m.valueError = mpuTaylorRemainder(sums.valueThird, rounding, rho, rho).value + sums.creaseValue * (1 + 1e-9);
-    m.slopeError = mpuTaylorRemainder(sums.slopeThird, rounding, rho, rho).slope + sums.creaseSlope * (1 + 1e-9);
+    m.valueFloor = rounding + sums.directValue;
+    m.slopeFloor = rounding / std::max(rho, 1e-300) + sums.directSlope;
+    m.valueError =
+        mpuTaylorRemainder(sums.valueThird, rho, m.valueFloor, m.slopeFloor).value + sums.creaseValue * (1 + 1e-9);
+    m.slopeError =
+        mpuTaylorRemainder(sums.slopeThird, rho, m.valueFloor, m.slopeFloor).slope + sums.creaseSlope * (1 + 1e-9);
     m.hessianError = sums.creaseValue > 0.0 || sums.creaseSlope > 0.0
                          ? std::numeric_limits<double>::infinity()
-                         : sums.hessianThird * rho * (1 + 1e-9) + rounding / std::max(rho * rho, 1e-300);
+                         : sums.hessianThird * rho * (1 + 1e-9) + rounding / std::max(rho * rho, 1e-300) +
+                               sums.directHessian;
     m.third = sums.third;
     m.remainderThird = sums.slopeThird;  // the larger of value's and slope's
     m.halfDiagonal = rho;
-    m.rounding = rounding;
 }
 
 }  // namespace
@@ -428,6 +434,10 @@ struct SingleSums {
     /// on the fourth over the box of the locals taken from the centre; the
     /// own bounds of the others.
     double ownThird = 0.0, tensor[10] = {}, fourth = 0.0, apart = 0.0;
+    /// Of the others, those whose rim crosses the box and whose weight
+    /// stays small over it: their own bounds (part of `apart`), and their
+    /// errors bounded directly.
+    double directOwn = 0.0, directValue = 0.0, directSlope = 0.0, directHessian = 0.0;
 
     void addShares(const SingleSums& o) {
         ownThird += o.ownThird;
@@ -435,6 +445,10 @@ struct SingleSums {
         for (int j = 0; j < 10; ++j) tensor[j] += o.tensor[j];
         fourth += o.fourth;
         apart += o.apart;
+        directOwn += o.directOwn;
+        directValue += o.directValue;
+        directSlope += o.directSlope;
+        directHessian += o.directHessian;
     }
     /// max |T[u, u, u]| over unit u is at most T's Frobenius norm.
     double tensorNorm() const {
@@ -463,6 +477,7 @@ SingleSums sumSingles(const MpuLocalColumns& columns, const Vec3& c, const Box3*
     const Vec3 half = box ? Vec3(0.5 * box->extent()) : Vec3::Zero();
     Lanes value = 0.0, gx = 0.0, gy = 0.0, gz = 0.0, hxx = 0.0, hxy = 0.0, hxz = 0.0, hyy = 0.0, hyz = 0.0, hzz = 0.0;
     Lanes ownThird = 0.0, scale = 0.0, fourth = 0.0, apart = 0.0;
+    Lanes directOwn = 0.0, directValue = 0.0, directSlope = 0.0, directHessian = 0.0;
     Lanes tensor[10];
     for (Lanes& t : tensor) t = 0.0;
     const size_t n = columns.singleCount();
@@ -513,8 +528,31 @@ SingleSums sumSingles(const MpuLocalColumns& columns, const Vec3& c, const Box3*
         const Lanes own4 = weightFourthBound(nearest, farthest, R) * q0 + 4.0 * w3 * q1 + 6.0 * w2 * hqNorm;
         const Lanes::mask_type fromCentre = reaches && farthest < R && own4 * rho < own;
         fourth += select(fromCentre, own4, Lanes(0.0));
-        apart += select(reaches && !fromCentre, own, Lanes(0.0));
+        const Lanes::mask_type others = reaches && !fromCentre;
+        apart += select(others, own, Lanes(0.0));
         if (any_of(fromCentre)) addThirdDerivatives(load, c, t, fromCentre, tensor);
+        if (none_of(others)) continue;
+        // A ball whose rim crosses the box: w Q - T_i (T_i its Taylor terms
+        // at c) is at most max w |Q| + max |T_i| over the box, and likewise
+        // for slope and curvature. Near the rim w = sigma^3 is small, and
+        // this is well below Taylor's remainder of its own bound, which the
+        // jump of w's third derivative at the rim makes large (on the
+        // 37,934-vertex model those remainders were most of the value
+        // errors).
+        const Lanes w0 = sigmaMax * sigmaMax * sigmaMax;
+        const Lanes hx = half.x(), hy = half.y(), hz = half.z();
+        const Lanes taylorRange = abs(t.value) + abs(t.gx) * hx + abs(t.gy) * hy + abs(t.gz) * hz +
+                                  0.5 * (abs(t.hxx) * hx * hx + abs(t.hyy) * hy * hy + abs(t.hzz) * hz * hz) +
+                                  abs(t.hxy) * hx * hy + abs(t.hxz) * hx * hz + abs(t.hyz) * hy * hz;
+        const Lanes taylorSlope = sqrt(t.gx * t.gx + t.gy * t.gy + t.gz * t.gz);
+        const Lanes taylorHessian = sqrt(t.hxx * t.hxx + t.hyy * t.hyy + t.hzz * t.hzz +
+                                         2.0 * (t.hxy * t.hxy + t.hxz * t.hxz + t.hyz * t.hyz));
+        const Lanes value = w0 * q0 + taylorRange;
+        const Lanes::mask_type direct = others && value < own * (rho * rho * rho / 6.0);
+        directOwn += select(direct, own, Lanes(0.0));
+        directValue += select(direct, value, Lanes(0.0));
+        directSlope += select(direct, Lanes(w1 * q0 + w0 * q1 + taylorSlope + taylorHessian * rho), Lanes(0.0));
+        directHessian += select(direct, Lanes(w2 * q0 + 2.0 * w1 * q1 + w0 * hqNorm + taylorHessian), Lanes(0.0));
     }
     SingleSums sums;
     sums.value = reduce(value);
@@ -528,6 +566,10 @@ SingleSums sumSingles(const MpuLocalColumns& columns, const Vec3& c, const Box3*
     for (int j = 0; j < 10; ++j) sums.tensor[j] = reduce(tensor[j]);
     sums.fourth = reduce(fourth);
     sums.apart = reduce(apart);
+    sums.directOwn = reduce(directOwn);
+    sums.directValue = reduce(directValue);
+    sums.directSlope = reduce(directSlope);
+    sums.directHessian = reduce(directHessian);
     return sums;
 }
 
@@ -550,10 +592,14 @@ SingleSums sumSingles(const MpuLocalColumns& columns, const Vec3& c, const Box3*
 // Hessian's |T3| r + M4 r^2 / 2, those of M3 = |T3| + M4 rho times 1/4, 1/3
 // and 1/2 (r <= rho). On the 37,934-vertex model the fourth derivatives'
 // share was 46% of M3.
-double thirdFromCentre(const SingleSums& sums, double rho, double reach = 1.0) {
+//
+// With `direct`, the balls bounded directly are left out (their bounds go
+// to the errors apart), and the locals' own bounds are not the fallback.
+double thirdFromCentre(const SingleSums& sums, double rho, double reach = 1.0, bool direct = false) {
+    const double apart = direct ? std::max(sums.apart - sums.directOwn, 0.0) + 1e-9 * sums.apart : sums.apart;
     const double fromCentre =
-        sums.tensorNorm() + sums.fourth * rho * reach * (1 + 1e-12) + sums.apart + 1e-9 * sums.ownThird;
-    return std::min(sums.ownThird, fromCentre);
+        sums.tensorNorm() + sums.fourth * rho * reach * (1 + 1e-12) + apart + 1e-9 * sums.ownThird;
+    return direct ? fromCentre : std::min(sums.ownThird, fromCentre);
 }
 
 }  // namespace
@@ -578,9 +624,22 @@ MpuNumeratorModel fitMpuNumeratorModel(const MpuField& field, const Box3& box, c
         singles.addShares(some);
     }
     sums.third = thirdFromCentre(singles, rho);
-    sums.valueThird = thirdFromCentre(singles, rho, 1.0 / 4.0);
-    sums.slopeThird = thirdFromCentre(singles, rho, 1.0 / 3.0);
-    sums.hessianThird = thirdFromCentre(singles, rho, 1.0 / 2.0);
+    // The remainders of the third derivatives from the centre with the
+    // balls bounded directly apart, where that is smaller over the box:
+    // one choice for value, slope and curvature, as tracers narrow the
+    // remainders nearer the centre over the same floors.
+    const double cube = rho * rho * rho / 6.0;
+    const bool direct = singles.directOwn > 0.0 &&
+                        thirdFromCentre(singles, rho, 1.0 / 4.0, true) * cube + singles.directValue <
+                            thirdFromCentre(singles, rho, 1.0 / 4.0) * cube;
+    sums.valueThird = thirdFromCentre(singles, rho, 1.0 / 4.0, direct);
+    sums.slopeThird = thirdFromCentre(singles, rho, 1.0 / 3.0, direct);
+    sums.hessianThird = thirdFromCentre(singles, rho, 1.0 / 2.0, direct);
+    if (direct) {
+        sums.directValue = singles.directValue * (1 + 1e-9);
+        sums.directSlope = singles.directSlope * (1 + 1e-9);
+        sums.directHessian = singles.directHessian * (1 + 1e-9);
+    }
     sums.scale += singles.scale;
     for (const uint32_t i : (resolved ? resolved : &locals)->sharp()) {
         const MpuLocal& l = field.locals()[i];

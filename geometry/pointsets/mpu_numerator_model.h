@@ -44,9 +44,13 @@ struct MpuNumeratorModel {
     /// Lipschitz (M3) where no crease crosses the box; infinite where one
     /// does.
     double hessianError = 0.0;
-    /// M3, the bound on N's third directional derivatives over the box, the
-    /// box's half diagonal rho and the sums' rounding.
-    double third = 0.0, halfDiagonal = 0.0, rounding = 0.0;
+    /// M3, the bound on N's third directional derivatives over the box, and
+    /// the box's half diagonal rho.
+    double third = 0.0, halfDiagonal = 0.0;
+    /// Value and slope errors that do not shrink nearer the centre: the
+    /// sums' rounding, and the balls whose rim crosses the box bounded
+    /// directly (their weight is small over it) rather than by Taylor.
+    double valueFloor = 0.0, slopeFloor = 0.0;
     /// What stands for M3 in Taylor's remainders of value and slope within
     /// the box (mpuTaylorRemainder; at most `third`): within distance r of
     /// the centre, value and slope errors are mpuTaylorRemainder at r (plus
@@ -84,14 +88,15 @@ struct MpuNumeratorModel {
 uint32_t mpuResolvedSharpPieces(const MpuField& field, const MpuNumeratorModel& m, const MpuLocalList& list);
 
 /// Taylor's remainder of a model within distance r of its centre, given M3
-/// (third), the sums' rounding and the box's half diagonal rho: value
-/// M3 r^3 / 6, slope M3 r^2 / 2, each raised for rounding.
+/// (third) and the errors that do not shrink with r (valueFloor,
+/// slopeFloor: rounding, balls bounded directly): value M3 r^3 / 6, slope
+/// M3 r^2 / 2, each plus its floor.
 struct MpuTaylorRemainder {
     double value, slope;
 };
-inline MpuTaylorRemainder mpuTaylorRemainder(double third, double rounding, double r, double rho) {
+inline MpuTaylorRemainder mpuTaylorRemainder(double third, double r, double valueFloor, double slopeFloor) {
     constexpr double scale = 1 + 1e-9;
-    return {third * r * r * r / 6.0 * scale + rounding, third * r * r / 2.0 * scale + rounding / std::max(rho, 1e-300)};
+    return {third * r * r * r / 6.0 * scale + valueFloor, third * r * r / 2.0 * scale + slopeFloor};
 }
 
 /// Locals of one piece laid out for vector sums: the single-piece locals of

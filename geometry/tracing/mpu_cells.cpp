@@ -46,13 +46,13 @@ constexpr int kMaxModelSplits = 4;
 struct PartModel {
     double hessian[6] = {};
     double valueError = 0.0, slopeError = 0.0, hessianError = 0.0;
-    double remainderThird = 0.0, halfDiagonal = 0.0, rounding = 0.0;  ///< see MpuNumeratorModel
+    double remainderThird = 0.0, valueFloor = 0.0, slopeFloor = 0.0;  ///< see MpuNumeratorModel
 
     PartModel() = default;
     explicit PartModel(const MpuNumeratorModel& m)
         : hessian{m.hessian(0, 0), m.hessian(0, 1), m.hessian(0, 2), m.hessian(1, 1), m.hessian(1, 2), m.hessian(2, 2)},
-          valueError(m.valueError), slopeError(m.slopeError), hessianError(m.hessianError), remainderThird(m.remainderThird),
-          halfDiagonal(m.halfDiagonal), rounding(m.rounding) {}
+          valueError(m.valueError), slopeError(m.slopeError), hessianError(m.hessianError),
+          remainderThird(m.remainderThird), valueFloor(m.valueFloor), slopeFloor(m.slopeFloor) {}
     Vec3 times(const Vec3& v) const {
         return {hessian[0] * v.x() + hessian[1] * v.y() + hessian[2] * v.z(),
                 hessian[1] * v.x() + hessian[3] * v.y() + hessian[4] * v.z(),
@@ -236,7 +236,7 @@ private:
                                  double b) {
         if (!std::isfinite(m.hessianError)) return {m.valueError, m.slopeError};
         const double reach = std::max((o + a * d - plane.point).norm(), (o + b * d - plane.point).norm());
-        const MpuTaylorRemainder near = mpuTaylorRemainder(m.remainderThird, m.rounding, reach, m.halfDiagonal);
+        const MpuTaylorRemainder near = mpuTaylorRemainder(m.remainderThird, reach, m.valueFloor, m.slopeFloor);
         return {std::min(m.valueError, near.value), std::min(m.slopeError, near.slope)};
     }
 

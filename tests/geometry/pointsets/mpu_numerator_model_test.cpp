@@ -110,7 +110,7 @@ void expectWithinBounds(const MpuField& field, const std::vector<MpuPoint>& poin
                 // a span's errors to).
                 if (!std::isfinite(m.hessianError)) continue;
                 const MpuTaylorRemainder atDistance =
-                    mpuTaylorRemainder(m.remainderThird, m.rounding, (x - near).norm(), m.halfDiagonal);
+                    mpuTaylorRemainder(m.remainderThird, (x - near).norm(), m.valueFloor, m.slopeFloor);
                 ASSERT_LE(std::abs(exact.N - model), atDistance.value) << "model " << k / 80 << ", box " << i;
                 ASSERT_LE(slope, atDistance.slope) << "model " << k / 80 << ", box " << i;
                 reach.nearValue = std::max(reach.nearValue, std::abs(exact.N - model) / atDistance.value);
