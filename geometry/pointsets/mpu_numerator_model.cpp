@@ -196,6 +196,11 @@ struct ErrorSums {
     double third = 0.0, valueThird = 0.0, slopeThird = 0.0, hessianThird = 0.0;
     /// Errors of balls bounded directly, the same at any distance.
     double directValue = 0.0, directSlope = 0.0, directHessian = 0.0;
+    /// What the value error over the whole box sheds where the third
+    /// derivatives at the centre are bounded over the box itself
+    /// (SingleSums::cubicOverBox) rather than over the ball of its half
+    /// diagonal.
+    double cubicSaving = 0.0;
     double scale = 0.0, creaseValue = 0.0, creaseSlope = 0.0;
 
     void addThird(double bound) {
@@ -259,8 +264,8 @@ void setErrors(MpuNumeratorModel& m, const ErrorSums& sums, double rho) {
     const double rounding = 1e-12 * sums.scale;
     m.valueFloor = rounding + sums.directValue;
     m.slopeFloor = rounding / std::max(rho, 1e-300) + sums.directSlope;
-    m.valueError =
-        mpuTaylorRemainder(sums.valueThird, rho, m.valueFloor, m.slopeFloor).value + sums.creaseValue * (1 + 1e-9);
+    m.valueError = mpuTaylorRemainder(sums.valueThird, rho, m.valueFloor, m.slopeFloor).value -
+                   sums.cubicSaving * (1 - 1e-9) + sums.creaseValue * (1 + 1e-9);
     m.slopeError =
         mpuTaylorRemainder(sums.slopeThird, rho, m.valueFloor, m.slopeFloor).slope + sums.creaseSlope * (1 + 1e-9);
     m.hessianError = sums.creaseValue > 0.0 || sums.creaseSlope > 0.0
@@ -450,6 +455,18 @@ struct SingleSums {
         directSlope += o.directSlope;
         directHessian += o.directHessian;
     }
+    /// The largest |T[y, y, y]| over |y_k| <= half_k: at most the terms'
+    /// magnitudes summed, which for a tensor that is not spread evenly over
+    /// the axes is well below tensorNorm() |half|^3.
+    double cubicOverBox(const Vec3& half) const {
+        static constexpr int kAxes[10][3] = {{0, 0, 0}, {0, 0, 1}, {0, 0, 2}, {0, 1, 1}, {0, 1, 2},
+                                             {0, 2, 2}, {1, 1, 1}, {1, 1, 2}, {1, 2, 2}, {2, 2, 2}};
+        static constexpr double kMultiplicity[10] = {1, 3, 3, 3, 6, 3, 1, 3, 3, 1};
+        double sum = 0.0;
+        for (int j = 0; j < 10; ++j)
+            sum += kMultiplicity[j] * std::abs(tensor[j]) * half[kAxes[j][0]] * half[kAxes[j][1]] * half[kAxes[j][2]];
+        return sum;
+    }
     /// max |T[u, u, u]| over unit u is at most T's Frobenius norm.
     double tensorNorm() const {
         static constexpr double kMultiplicity[10] = {1, 3, 3, 3, 6, 3, 1, 3, 3, 1};
@@ -635,6 +652,8 @@ MpuNumeratorModel fitMpuNumeratorModel(const MpuField& field, const Box3& box, c
     sums.valueThird = thirdFromCentre(singles, rho, 1.0 / 4.0, direct);
     sums.slopeThird = thirdFromCentre(singles, rho, 1.0 / 3.0, direct);
     sums.hessianThird = thirdFromCentre(singles, rho, 1.0 / 2.0, direct);
+    if (direct || sums.valueThird < singles.ownThird)
+        sums.cubicSaving = std::max(0.0, singles.tensorNorm() * rho * rho * rho - singles.cubicOverBox(half)) / 6.0;
     if (direct) {
         sums.directValue = singles.directValue * (1 + 1e-9);
         sums.directSlope = singles.directSlope * (1 + 1e-9);
