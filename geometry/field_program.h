@@ -39,6 +39,7 @@ struct LeafPlacement {
     double gradientScale = 1.0;  ///< valueScale * ||linear||_2
     bool identity = true;
 
+    bool operator==(const LeafPlacement&) const = default;
     Vec3 leafFromWorld(const Vec3& p) const { return identity ? p : Vec3(linear * p + offset); }
     /// Placement of a child whose frame is given by parent = A child + t
     /// with value scale sigma (see FieldParser's transform).

@@ -274,7 +274,6 @@ void setErrors(MpuNumeratorModel& m, const ErrorSums& sums, double rho) {
                                sums.directHessian;
     m.third = sums.third;
     m.remainderThird = sums.slopeThird;  // the larger of value's and slope's
-    m.halfDiagonal = rho;
 }
 
 }  // namespace

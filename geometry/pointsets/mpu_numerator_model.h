@@ -44,9 +44,8 @@ struct MpuNumeratorModel {
     /// Lipschitz (M3) where no crease crosses the box; infinite where one
     /// does.
     double hessianError = 0.0;
-    /// M3, the bound on N's third directional derivatives over the box, and
-    /// the box's half diagonal rho.
-    double third = 0.0, halfDiagonal = 0.0;
+    /// M3, the bound on N's third directional derivatives over the box.
+    double third = 0.0;
     /// Value and slope errors that do not shrink nearer the centre: the
     /// sums' rounding, and the balls whose rim crosses the box bounded
     /// directly (their weight is small over it) rather than by Taylor.

@@ -127,7 +127,7 @@ public:
     // join this tracer's, each part's `first` moved past the lists before.
     std::optional<uint32_t> absorb(CellAcceleration& other) override {
         auto* o = dynamic_cast<MpuCellTracer*>(other.tracer.get());
-        if (!o || o->field_ != field_ || !samePlacement(o->placement_)) return std::nullopt;
+        if (!o || o->field_ != field_ || o->placement_ != placement_) return std::nullopt;
         constexpr size_t kLimit = std::numeric_limits<uint32_t>::max();
         if (locals_.size() + o->locals_.size() > kLimit || partCount_ + o->partCount_ > kLimit) return std::nullopt;
         const auto offset = uint32_t(locals_.size());
@@ -456,11 +456,6 @@ private:
         int sign = 0;
     };
     static thread_local LastSign lastSign_;
-
-    bool samePlacement(const LeafPlacement& p) const {
-        return p.identity == placement_.identity && p.linear == placement_.linear && p.offset == placement_.offset &&
-               p.valueScale == placement_.valueScale && p.gradientScale == placement_.gradientScale;
-    }
 
     std::shared_ptr<const MpuField> field_;
     LeafPlacement placement_;

@@ -198,8 +198,8 @@ uint64_t surfaceKey(const PolynomialField& field, const LeafPlacement& placement
 
 template <int Degree>
 std::unique_ptr<CellTracer> PolynomialCellAccelerator::tracerFor(const PolynomialField& field,
-                                                                      const LeafPlacement& placement, uint64_t key,
-                                                                      bool negated, const Box3& part) const {
+                                                                const LeafPlacement& placement, uint64_t key,
+                                                                bool negated, const Box3& part) const {
     std::shared_ptr<const void>* shared;
     {
         const std::lock_guard<std::mutex> lock(mutex_);

@@ -31,8 +31,8 @@ public:
 
 private:
     template <int Degree>
-    std::unique_ptr<CellTracer> tracerFor(const PolynomialField& field, const LeafPlacement& placement,
-                                                uint64_t key, bool negated, const Box3& part) const;
+    std::unique_ptr<CellTracer> tracerFor(const PolynomialField& field, const LeafPlacement& placement, uint64_t key,
+                                          bool negated, const Box3& part) const;
 
     // The surfaces the cells share, by content key (cells are offered in
     // parallel, at load time only).
