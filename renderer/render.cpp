@@ -15,6 +15,12 @@
 
 namespace isotrace {
 
+int tileInRenderOrder(int order, int tilesX, int tilesY) {
+    const int firstRow = order / (kTileBandRows * tilesX) * kTileBandRows;
+    const int rows = std::min(kTileBandRows, tilesY - firstRow), inBand = order - firstRow * tilesX;
+    return (firstRow + inBand % rows) * tilesX + inBand / rows;
+}
+
 Image render(const Scene& scene, const RenderOptions& options, RenderStatistics* statistics) {
     const auto start = std::chrono::steady_clock::now();
     const FilmSettings& film = scene.film;
@@ -129,9 +135,10 @@ Image render(const Scene& scene, const RenderOptions& options, RenderStatistics*
         if (options.rowsFinished && --tilesLeftInRow[tile / tilesX] == 0) handOverFinishedRows();
     };
 
-    // Tiles are taken in reading order, one at a time, by every thread from
-    // one counter: rows of tiles then finish roughly in order, so finished
-    // rows can be handed over (and compressed) while later ones render.
+    // Tiles are taken one at a time, by every thread from one counter, band
+    // after band of rows (tileInRenderOrder): rows of tiles then finish
+    // roughly in order, so finished rows can be handed over (and
+    // compressed) while later ones render.
     // Splitting the range as parallel_for does would finish the lower half
     // of the frame long before the upper and leave the hand-over to the end.
     tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
@@ -141,7 +148,7 @@ Image render(const Scene& scene, const RenderOptions& options, RenderStatistics*
     arena.execute([&] {
         tbb::parallel_for(0, arena.max_concurrency(), [&](int) {
             try {
-                for (int t; !failed && (t = nextTile++) < tileCount;) renderTile(t);
+                for (int t; !failed && (t = nextTile++) < tileCount;) renderTile(tileInRenderOrder(t, tilesX, tilesY));
             } catch (...) {
                 failed = true;  // the other threads stop at their next tile
                 throw;

@@ -6,6 +6,7 @@
 #include <atomic>
 #include <cstring>
 #include <stdexcept>
+#include <utility>
 #include <vector>
 
 #include "renderer/image_comparison.h"
@@ -139,6 +140,40 @@ TEST(Render, FinishedRowsAreHandedOverInOrderAndFinal) {
         EXPECT_EQ(ends.back(), image.height);
         ASSERT_EQ(handedOver.size(), image.rgb.size());
         EXPECT_EQ(std::memcmp(handedOver.data(), image.rgb.data(), image.rgb.size() * sizeof(float)), 0);
+    }
+}
+
+// Every tile is taken exactly once; a band's tiles all come before the next
+// band's, column by column, each column from the top; the last band may be
+// shorter.
+TEST(Render, TilesAreTakenOnceBandByBandColumnByColumn) {
+    for (const auto [tilesX, tilesY] : {std::pair{40, 30}, std::pair{1, 1}, std::pair{3, kTileBandRows + 1},
+                                        std::pair{7, 2 * kTileBandRows}, std::pair{1, 2 * kTileBandRows - 1}}) {
+        std::vector<int> takenAt(size_t(tilesX) * tilesY, -1);
+        int previousRow = 0, previousColumn = 0;
+        for (int order = 0; order < tilesX * tilesY; ++order) {
+            const int tile = tileInRenderOrder(order, tilesX, tilesY);
+            ASSERT_GE(tile, 0);
+            ASSERT_LT(tile, tilesX * tilesY);
+            EXPECT_EQ(takenAt[tile], -1) << "tile " << tile << " taken twice";
+            takenAt[tile] = order;
+            const int row = tile / tilesX, column = tile % tilesX;
+            if (order > 0) {
+                const int band = row / kTileBandRows, previousBand = previousRow / kTileBandRows;
+                EXPECT_GE(band, previousBand);
+                if (band == previousBand) {
+                    // The next tile down the column, or the top of the next column.
+                    const bool down = column == previousColumn && row == previousRow + 1;
+                    const bool nextColumn = column == previousColumn + 1 && row == band * kTileBandRows;
+                    EXPECT_TRUE(down || nextColumn) << "order " << order << " " << tilesX << "x" << tilesY;
+                } else {
+                    EXPECT_EQ(row, band * kTileBandRows);
+                    EXPECT_EQ(column, 0);
+                }
+            }
+            previousRow = row;
+            previousColumn = column;
+        }
     }
 }
 
