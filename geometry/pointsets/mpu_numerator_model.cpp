@@ -645,10 +645,10 @@ MpuNumeratorModel fitMpuNumeratorModel(const MpuField& field, const Box3& box, c
     // one choice for value, slope and curvature, as tracers narrow the
     // remainders nearer the centre over the same floors.
     const double cube = rho * rho * rho / 6.0;
-    const bool direct = singles.directOwn > 0.0 &&
-                        thirdFromCentre(singles, rho, 1.0 / 4.0, true) * cube + singles.directValue <
-                            thirdFromCentre(singles, rho, 1.0 / 4.0) * cube;
-    sums.valueThird = thirdFromCentre(singles, rho, 1.0 / 4.0, direct);
+    const double valueApart = thirdFromCentre(singles, rho, 1.0 / 4.0, true);
+    const double valueTaylor = thirdFromCentre(singles, rho, 1.0 / 4.0);
+    const bool direct = singles.directOwn > 0.0 && valueApart * cube + singles.directValue < valueTaylor * cube;
+    sums.valueThird = direct ? valueApart : valueTaylor;
     sums.slopeThird = thirdFromCentre(singles, rho, 1.0 / 3.0, direct);
     sums.hessianThird = thirdFromCentre(singles, rho, 1.0 / 2.0, direct);
     if (direct || sums.valueThird < singles.ownThird)
