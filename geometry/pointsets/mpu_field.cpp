@@ -610,17 +610,37 @@ void MpuField::finish() {
         std::copy(row, row + kLaneColumns, lane.values);
         return lane;
     };
+    auto floatRowOf = [&](const Local& l, const MpuQuadric& q) {
+        FloatLaneRow lane;
+        const Vec3 centre = l.center.cast<float>().cast<double>();
+        Vec3 g;
+        const double c0 = q.evaluate(centre, &g);
+        const double row[kLaneColumns] = {centre.x(), centre.y(), centre.z(), 1.0 / (l.radius * l.radius),
+                                          c0, g.x(), g.y(), g.z(), q.A(0, 0), q.A(0, 1), q.A(0, 2), q.A(1, 1),
+                                          q.A(1, 2), q.A(2, 2)};
+        std::transform(row, row + kLaneColumns, lane.values, [](double v) { return float(v); });
+        return lane;
+    };
+    auto addRows = [&](size_t at, const Local& l, const MpuQuadric& q) {
+        if (at == laneRows_.size()) {
+            laneRows_.emplace_back();
+            floatLaneRows_.emplace_back();
+        }
+        laneRows_[at] = rowOf(l, q);
+        floatLaneRows_[at] = floatRowOf(l, q);
+    };
     laneRows_.assign(locals_.size(), LaneRow{});
+    floatLaneRows_.assign(locals_.size(), FloatLaneRow{});
     sharpPieceRows_.assign(locals_.size(), 0);
     for (size_t i = 0; i < locals_.size(); ++i) {
         const Local& l = locals_[i];
-        if (l.combination == MpuCombination::Single) laneRows_[i] = rowOf(l, pieces_[l.first]);
+        if (l.combination == MpuCombination::Single) addRows(i, l, pieces_[l.first]);
     }
     for (size_t i = 0; i < locals_.size(); ++i) {
         const Local& l = locals_[i];
         if (l.combination == MpuCombination::Single || l.combination == MpuCombination::Interpolant) continue;
         sharpPieceRows_[i] = uint32_t(laneRows_.size());
-        for (int k = 0; k < l.count; ++k) laneRows_.push_back(rowOf(l, pieces_[l.first + k]));
+        for (int k = 0; k < l.count; ++k) addRows(laneRows_.size(), l, pieces_[l.first + k]);
     }
     // Each piece's |A| (Frobenius, at least the spectral norm, slightly
     // raised for rounding): its gradient g + 2 A y moves at most 2 |A| |dy|.
@@ -777,8 +797,7 @@ double MpuField::numerator(const Vec3& p, MpuLocalList locals) const {
 }
 
 MpuBlendSums MpuField::blendSums(const Vec3& p, MpuLocalList locals) const {
-    // The lanes' share is summed apart and added last, as sums() adds its
-    // terms one by one: the same sums, bit for bit, whichever path.
+    // The lanes' share is summed apart and added last.
     MpuBlendSums lanes;
     MpuBlendSums s = sums(p, [&](auto&& visit) {
         forLaneRowsOf(locals, [&](std::span<const uint32_t> rows) { addSingleLanes(p, rows, lanes); }, visit);

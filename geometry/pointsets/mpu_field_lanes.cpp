@@ -4,6 +4,10 @@
 // weight and the quadric). Built for the machine's widest vectors.
 #include <algorithm>
 
+#if defined(__AVX512F__)
+#include <immintrin.h>
+#endif
+
 #include "geometry/lanes.h"
 #include "geometry/pointsets/mpu_field.h"
 #include "geometry/segment_polynomial.h"
@@ -29,8 +33,143 @@ void forLaneRuns(const std::vector<Row>& rows, std::span<const uint32_t> listed,
     }
 }
 
+#if defined(__AVX512F__)
+constexpr bool kFloatLanes = true;
+using FloatLanes = std::experimental::native_simd<float>;
+static_assert(FloatLanes::size() == 16);
+
+// GCC 12 warns falsely of the undefined pass-through operand inside its
+// AVX-512 shuffle intrinsics.
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wuninitialized"
+// Sixteen rows of sixteen floats, one register each, turned into sixteen
+// columns: pairs, then quads interleaved within 128-bit blocks, then the
+// blocks themselves, 64 shuffles for what lane-by-lane inserts took 224.
+[[gnu::always_inline]] inline void transposeRows(__m512 r[16]) {
+    __m512 t[16];
+    for (int k = 0; k < 8; ++k) {
+        t[2 * k] = _mm512_unpacklo_ps(r[2 * k], r[2 * k + 1]);
+        t[2 * k + 1] = _mm512_unpackhi_ps(r[2 * k], r[2 * k + 1]);
+    }
+    auto pd = [](__m512 v) { return _mm512_castps_pd(v); };
+    for (int k = 0; k < 4; ++k) {
+        r[4 * k + 0] = _mm512_castpd_ps(_mm512_unpacklo_pd(pd(t[4 * k + 0]), pd(t[4 * k + 2])));
+        r[4 * k + 1] = _mm512_castpd_ps(_mm512_unpackhi_pd(pd(t[4 * k + 0]), pd(t[4 * k + 2])));
+        r[4 * k + 2] = _mm512_castpd_ps(_mm512_unpacklo_pd(pd(t[4 * k + 1]), pd(t[4 * k + 3])));
+        r[4 * k + 3] = _mm512_castpd_ps(_mm512_unpackhi_pd(pd(t[4 * k + 1]), pd(t[4 * k + 3])));
+    }
+    // r[4k + m] now holds rows 4k..4k+3 of columns m, m + 4, m + 8, m + 12,
+    // one per 128-bit block.
+    for (int k = 0; k < 2; ++k)
+        for (int m = 0; m < 4; ++m) {
+            t[8 * k + m] = _mm512_shuffle_f32x4(r[8 * k + m], r[8 * k + 4 + m], 0x88);
+            t[8 * k + 4 + m] = _mm512_shuffle_f32x4(r[8 * k + m], r[8 * k + 4 + m], 0xdd);
+        }
+    for (int m = 0; m < 4; ++m) {
+        r[m] = _mm512_shuffle_f32x4(t[m], t[8 + m], 0x88);
+        r[8 + m] = _mm512_shuffle_f32x4(t[m], t[8 + m], 0xdd);
+        r[4 + m] = _mm512_shuffle_f32x4(t[4 + m], t[12 + m], 0x88);
+        r[12 + m] = _mm512_shuffle_f32x4(t[4 + m], t[12 + m], 0xdd);
+    }
+}
+#pragma GCC diagnostic pop
+
+// Calls visit(column, valid) for each run of sixteen of the rows `listed`
+// names: column[c] holds column c of the run's rows; lanes past the list's
+// end repeat its first row and are not valid.
+template <class Row, class Visit>
+[[gnu::always_inline]] inline void forFloatLaneRuns(const std::vector<Row>& rows, std::span<const uint32_t> listed,
+                                                 Visit&& visit) {
+    constexpr size_t kWidth = FloatLanes::size();
+    const FloatLanes lane([](auto j) { return float(j); });
+    for (size_t first = 0; first < listed.size(); first += kWidth) {
+        const size_t count = std::min(kWidth, listed.size() - first);
+        __m512 r[kWidth];
+        for (size_t j = 0; j < kWidth; ++j) r[j] = _mm512_load_ps(rows[listed[first + (j < count ? j : 0)]].values);
+        transposeRows(r);
+        const FloatLanes column[16] = {FloatLanes(r[0]),  FloatLanes(r[1]),  FloatLanes(r[2]),  FloatLanes(r[3]),
+                                       FloatLanes(r[4]),  FloatLanes(r[5]),  FloatLanes(r[6]),  FloatLanes(r[7]),
+                                       FloatLanes(r[8]),  FloatLanes(r[9]),  FloatLanes(r[10]), FloatLanes(r[11]),
+                                       FloatLanes(r[12]), FloatLanes(r[13]), FloatLanes(r[14]), FloatLanes(r[15])};
+        visit(column, lane < float(count));
+    }
+}
+
+// p as two floats, hi + lo: (hi - c) + lo keeps r = p - c to a float's
+// precision of r itself, not of p.
+struct SplitPoint {
+    float hi[3], lo[3];
+    explicit SplitPoint(const Vec3& p) {
+        for (int k = 0; k < 3; ++k) {
+            hi[k] = float(p[k]);
+            lo[k] = float(p[k] - double(hi[k]));
+        }
+    }
+};
+#else
+constexpr bool kFloatLanes = false;
+#endif
+
 }  // namespace
 
+double MpuField::laneRelativeError() { return kFloatLanes ? 2e-5 : 1e-12; }
+
+#if defined(__AVX512F__)
+void MpuField::addSingleLanes(const Vec3& p, std::span<const uint32_t> rows, MpuBlendSums& s) const {
+    using L = FloatLanes;
+    const SplitPoint at(p);
+    L W = 0.0f, N = 0.0f, wx = 0.0f, wy = 0.0f, wz = 0.0f, nx = 0.0f, ny = 0.0f, nz = 0.0f;
+    forFloatLaneRuns(floatLaneRows_, rows, [&](const L* column, const L::mask_type& valid) {
+        const L rx = (at.hi[0] - column[CenterX]) + at.lo[0], ry = (at.hi[1] - column[CenterY]) + at.lo[1],
+                rz = (at.hi[2] - column[CenterZ]) + at.lo[2];
+        const L inverseR2 = column[InverseRadius2];
+        const L s1 = 1.0f - (rx * rx + ry * ry + rz * rz) * inverseR2;
+        const L::mask_type inside = valid && s1 > 0.0f;
+        if (none_of(inside)) return;
+        const L sigma = select(inside, s1, L(0.0f)), w = sigma * sigma * sigma;
+        const L &axx = column[Axx], &axy = column[Axy], &axz = column[Axz], &ayy = column[Ayy], &ayz = column[Ayz],
+                &azz = column[Azz];
+        const L arx = axx * rx + axy * ry + axz * rz, ary = axy * rx + ayy * ry + ayz * rz,
+                arz = axz * rx + ayz * ry + azz * rz;
+        const L &gx = column[Gx], &gy = column[Gy], &gz = column[Gz];
+        const L q = column[C0] + (gx * rx + gy * ry + gz * rz) + (rx * arx + ry * ary + rz * arz);
+        const L dw = -6.0f * sigma * sigma * inverseR2;  // grad w = dw r
+        W += w;
+        N += w * q;
+        wx += dw * rx;
+        wy += dw * ry;
+        wz += dw * rz;
+        nx += dw * rx * q + w * (gx + 2.0f * arx);
+        ny += dw * ry * q + w * (gy + 2.0f * ary);
+        nz += dw * rz * q + w * (gz + 2.0f * arz);
+    });
+    s.W += reduce(W);
+    s.N += reduce(N);
+    s.gradientW += Vec3(reduce(wx), reduce(wy), reduce(wz));
+    s.gradientN += Vec3(reduce(nx), reduce(ny), reduce(nz));
+}
+
+double MpuField::singleLanesNumerator(const Vec3& p, std::span<const uint32_t> rows) const {
+    using L = FloatLanes;
+    const SplitPoint at(p);
+    L N = 0.0f;
+    forFloatLaneRuns(floatLaneRows_, rows, [&](const L* column, const L::mask_type& valid) {
+        const L rx = (at.hi[0] - column[CenterX]) + at.lo[0], ry = (at.hi[1] - column[CenterY]) + at.lo[1],
+                rz = (at.hi[2] - column[CenterZ]) + at.lo[2];
+        const L s1 = 1.0f - (rx * rx + ry * ry + rz * rz) * column[InverseRadius2];
+        const L::mask_type inside = valid && s1 > 0.0f;
+        if (none_of(inside)) return;
+        const L sigma = select(inside, s1, L(0.0f));
+        const L &axx = column[Axx], &axy = column[Axy], &axz = column[Axz], &ayy = column[Ayy], &ayz = column[Ayz],
+                &azz = column[Azz];
+        const L q = column[C0] + (column[Gx] * rx + column[Gy] * ry + column[Gz] * rz) +
+                    (rx * (axx * rx + axy * ry + axz * rz) + ry * (axy * rx + ayy * ry + ayz * rz) +
+                     rz * (axz * rx + ayz * ry + azz * rz));
+        N += sigma * sigma * sigma * q;
+    });
+    return reduce(N);
+}
+#else
 void MpuField::addSingleLanes(const Vec3& p, std::span<const uint32_t> rows, MpuBlendSums& s) const {
     Lanes W = 0.0, N = 0.0, wx = 0.0, wy = 0.0, wz = 0.0, nx = 0.0, ny = 0.0, nz = 0.0;
     forLaneRuns(laneRows_, rows, [&](auto&& load, const Lanes::mask_type& valid) {
@@ -79,6 +218,7 @@ double MpuField::singleLanesNumerator(const Vec3& p, std::span<const uint32_t> r
     });
     return reduce(N);
 }
+#endif
 
 int MpuField::addSinglesAlongSegment(const Vec3& p0, const Vec3& D, std::span<const uint32_t> singles,
                                      SegmentPolynomialSum<8>& sum) const {

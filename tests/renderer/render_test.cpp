@@ -147,7 +147,7 @@ TEST(Render, FinishedRowsAreHandedOverInOrderAndFinal) {
 // band's, column by column, each column from the top; the last band may be
 // shorter.
 TEST(Render, TilesAreTakenOnceBandByBandColumnByColumn) {
-    for (const auto [tilesX, tilesY] : {std::pair{40, 30}, std::pair{1, 1}, std::pair{3, kTileBandRows + 1},
+    for (const auto& [tilesX, tilesY] : {std::pair{40, 30}, std::pair{1, 1}, std::pair{3, kTileBandRows + 1},
                                         std::pair{7, 2 * kTileBandRows}, std::pair{1, 2 * kTileBandRows - 1}}) {
         std::vector<int> takenAt(size_t(tilesX) * tilesY, -1);
         int previousRow = 0, previousColumn = 0;
