@@ -34,7 +34,6 @@ void forLaneRuns(const std::vector<Row>& rows, std::span<const uint32_t> listed,
 }
 
 #if defined(__AVX512F__)
-constexpr bool kFloatLanes = true;
 using FloatLanes = std::experimental::native_simd<float>;
 static_assert(FloatLanes::size() == 16);
 
@@ -106,42 +105,66 @@ struct SplitPoint {
         }
     }
 };
+
+constexpr bool kFloatLanes = true;
+using PointLanes = FloatLanes;
+
+// Calls visit(rx, ry, rz, column, valid) for each run of lanes of the
+// rows `listed` names: r = p - the balls' centres (columns 0 to 2), and
+// column(c) the run's column c. Single-precision rows here.
+template <class DoubleRow, class FloatRow, class Visit>
+[[gnu::always_inline]] inline void forPointLaneRuns(const std::vector<DoubleRow>&, const std::vector<FloatRow>& rows,
+                                                    const Vec3& p, std::span<const uint32_t> listed, Visit&& visit) {
+    const SplitPoint at(p);
+    forFloatLaneRuns(rows, listed, [&](const FloatLanes* column, const FloatLanes::mask_type& valid) {
+        visit((at.hi[0] - column[0]) + at.lo[0], (at.hi[1] - column[1]) + at.lo[1], (at.hi[2] - column[2]) + at.lo[2],
+              [column](int c) -> const FloatLanes& { return column[c]; }, valid);
+    });
+}
 #else
 constexpr bool kFloatLanes = false;
+using PointLanes = Lanes;
+
+// The same from the double rows, gathered lane by lane.
+template <class DoubleRow, class FloatRow, class Visit>
+[[gnu::always_inline]] inline void forPointLaneRuns(const std::vector<DoubleRow>& rows, const std::vector<FloatRow>&,
+                                                    const Vec3& p, std::span<const uint32_t> listed, Visit&& visit) {
+    forLaneRuns(rows, listed, [&](auto&& load, const Lanes::mask_type& valid) {
+        visit(p.x() - load(0), p.y() - load(1), p.z() - load(2), load, valid);
+    });
+}
 #endif
 
 }  // namespace
 
 double MpuField::laneRelativeError() { return kFloatLanes ? 2e-5 : 1e-12; }
 
-#if defined(__AVX512F__)
 void MpuField::addSingleLanes(const Vec3& p, std::span<const uint32_t> rows, MpuBlendSums& s) const {
-    using L = FloatLanes;
-    const SplitPoint at(p);
-    L W = 0.0f, N = 0.0f, wx = 0.0f, wy = 0.0f, wz = 0.0f, nx = 0.0f, ny = 0.0f, nz = 0.0f;
-    forFloatLaneRuns(floatLaneRows_, rows, [&](const L* column, const L::mask_type& valid) {
-        const L rx = (at.hi[0] - column[CenterX]) + at.lo[0], ry = (at.hi[1] - column[CenterY]) + at.lo[1],
-                rz = (at.hi[2] - column[CenterZ]) + at.lo[2];
-        const L inverseR2 = column[InverseRadius2];
-        const L s1 = 1.0f - (rx * rx + ry * ry + rz * rz) * inverseR2;
-        const L::mask_type inside = valid && s1 > 0.0f;
-        if (none_of(inside)) return;
-        const L sigma = select(inside, s1, L(0.0f)), w = sigma * sigma * sigma;
-        const L &axx = column[Axx], &axy = column[Axy], &axz = column[Axz], &ayy = column[Ayy], &ayz = column[Ayz],
-                &azz = column[Azz];
+    static_assert(CenterX == 0 && CenterY == 1 && CenterZ == 2, "forPointLaneRuns reads the centres there");
+    using L = PointLanes;
+    L W = 0, N = 0, wx = 0, wy = 0, wz = 0, nx = 0, ny = 0, nz = 0;
+    forPointLaneRuns(laneRows_, floatLaneRows_, p, rows,
+                     [&](const L& rx, const L& ry, const L& rz, auto&& column, const L::mask_type& valid) {
+        const L inverseR2 = column(InverseRadius2);
+        const L s1 = L(1) - (rx * rx + ry * ry + rz * rz) * inverseR2;
+        const L::mask_type inside = valid && s1 > L(0);
+        if (none_of(inside)) return;  // no ball holds p: the quadrics are not needed
+        const L sigma = select(inside, s1, L(0)), w = sigma * sigma * sigma;
+        const L axx = column(Axx), axy = column(Axy), axz = column(Axz), ayy = column(Ayy), ayz = column(Ayz),
+                azz = column(Azz);
         const L arx = axx * rx + axy * ry + axz * rz, ary = axy * rx + ayy * ry + ayz * rz,
                 arz = axz * rx + ayz * ry + azz * rz;
-        const L &gx = column[Gx], &gy = column[Gy], &gz = column[Gz];
-        const L q = column[C0] + (gx * rx + gy * ry + gz * rz) + (rx * arx + ry * ary + rz * arz);
-        const L dw = -6.0f * sigma * sigma * inverseR2;  // grad w = dw r
+        const L gx = column(Gx), gy = column(Gy), gz = column(Gz);
+        const L q = column(C0) + (gx * rx + gy * ry + gz * rz) + (rx * arx + ry * ary + rz * arz);
+        const L dw = L(-6) * sigma * sigma * inverseR2;  // grad w = dw r
         W += w;
         N += w * q;
         wx += dw * rx;
         wy += dw * ry;
         wz += dw * rz;
-        nx += dw * rx * q + w * (gx + 2.0f * arx);
-        ny += dw * ry * q + w * (gy + 2.0f * ary);
-        nz += dw * rz * q + w * (gz + 2.0f * arz);
+        nx += dw * rx * q + w * (gx + L(2) * arx);
+        ny += dw * ry * q + w * (gy + L(2) * ary);
+        nz += dw * rz * q + w * (gz + L(2) * arz);
     });
     s.W += reduce(W);
     s.N += reduce(N);
@@ -150,75 +173,23 @@ void MpuField::addSingleLanes(const Vec3& p, std::span<const uint32_t> rows, Mpu
 }
 
 double MpuField::singleLanesNumerator(const Vec3& p, std::span<const uint32_t> rows) const {
-    using L = FloatLanes;
-    const SplitPoint at(p);
-    L N = 0.0f;
-    forFloatLaneRuns(floatLaneRows_, rows, [&](const L* column, const L::mask_type& valid) {
-        const L rx = (at.hi[0] - column[CenterX]) + at.lo[0], ry = (at.hi[1] - column[CenterY]) + at.lo[1],
-                rz = (at.hi[2] - column[CenterZ]) + at.lo[2];
-        const L s1 = 1.0f - (rx * rx + ry * ry + rz * rz) * column[InverseRadius2];
-        const L::mask_type inside = valid && s1 > 0.0f;
+    using L = PointLanes;
+    L N = 0;
+    forPointLaneRuns(laneRows_, floatLaneRows_, p, rows,
+                     [&](const L& rx, const L& ry, const L& rz, auto&& column, const L::mask_type& valid) {
+        const L s1 = L(1) - (rx * rx + ry * ry + rz * rz) * column(InverseRadius2);
+        const L::mask_type inside = valid && s1 > L(0);
         if (none_of(inside)) return;
-        const L sigma = select(inside, s1, L(0.0f));
-        const L &axx = column[Axx], &axy = column[Axy], &axz = column[Axz], &ayy = column[Ayy], &ayz = column[Ayz],
-                &azz = column[Azz];
-        const L q = column[C0] + (column[Gx] * rx + column[Gy] * ry + column[Gz] * rz) +
+        const L sigma = select(inside, s1, L(0));
+        const L axx = column(Axx), axy = column(Axy), axz = column(Axz), ayy = column(Ayy), ayz = column(Ayz),
+                azz = column(Azz);
+        const L q = column(C0) + (column(Gx) * rx + column(Gy) * ry + column(Gz) * rz) +
                     (rx * (axx * rx + axy * ry + axz * rz) + ry * (axy * rx + ayy * ry + ayz * rz) +
                      rz * (axz * rx + ayz * ry + azz * rz));
         N += sigma * sigma * sigma * q;
     });
     return reduce(N);
 }
-#else
-void MpuField::addSingleLanes(const Vec3& p, std::span<const uint32_t> rows, MpuBlendSums& s) const {
-    Lanes W = 0.0, N = 0.0, wx = 0.0, wy = 0.0, wz = 0.0, nx = 0.0, ny = 0.0, nz = 0.0;
-    forLaneRuns(laneRows_, rows, [&](auto&& load, const Lanes::mask_type& valid) {
-        const Lanes rx = p.x() - load(CenterX), ry = p.y() - load(CenterY), rz = p.z() - load(CenterZ);
-        const Lanes inverseR2 = load(InverseRadius2);
-        const Lanes s1 = 1.0 - (rx * rx + ry * ry + rz * rz) * inverseR2;
-        const Lanes::mask_type inside = valid && s1 > 0.0;
-        if (none_of(inside)) return;  // no ball holds p: the quadrics are not needed
-        const Lanes sigma = select(inside, s1, Lanes(0.0)), w = sigma * sigma * sigma;
-        const Lanes axx = load(Axx), axy = load(Axy), axz = load(Axz), ayy = load(Ayy), ayz = load(Ayz),
-                    azz = load(Azz);
-        const Lanes arx = axx * rx + axy * ry + axz * rz, ary = axy * rx + ayy * ry + ayz * rz,
-                    arz = axz * rx + ayz * ry + azz * rz;
-        const Lanes gx = load(Gx), gy = load(Gy), gz = load(Gz);
-        const Lanes q = load(C0) + (gx * rx + gy * ry + gz * rz) + (rx * arx + ry * ary + rz * arz);
-        const Lanes dw = -6.0 * sigma * sigma * inverseR2;  // grad w = dw r
-        W += w;
-        N += w * q;
-        wx += dw * rx;
-        wy += dw * ry;
-        wz += dw * rz;
-        nx += dw * rx * q + w * (gx + 2.0 * arx);
-        ny += dw * ry * q + w * (gy + 2.0 * ary);
-        nz += dw * rz * q + w * (gz + 2.0 * arz);
-    });
-    s.W += reduce(W);
-    s.N += reduce(N);
-    s.gradientW += Vec3(reduce(wx), reduce(wy), reduce(wz));
-    s.gradientN += Vec3(reduce(nx), reduce(ny), reduce(nz));
-}
-
-double MpuField::singleLanesNumerator(const Vec3& p, std::span<const uint32_t> rows) const {
-    Lanes N = 0.0;
-    forLaneRuns(laneRows_, rows, [&](auto&& load, const Lanes::mask_type& valid) {
-        const Lanes rx = p.x() - load(CenterX), ry = p.y() - load(CenterY), rz = p.z() - load(CenterZ);
-        const Lanes s1 = 1.0 - (rx * rx + ry * ry + rz * rz) * load(InverseRadius2);
-        const Lanes::mask_type inside = valid && s1 > 0.0;
-        if (none_of(inside)) return;
-        const Lanes sigma = select(inside, s1, Lanes(0.0));
-        const Lanes axx = load(Axx), axy = load(Axy), axz = load(Axz), ayy = load(Ayy), ayz = load(Ayz),
-                    azz = load(Azz);
-        const Lanes q = load(C0) + (load(Gx) * rx + load(Gy) * ry + load(Gz) * rz) +
-                        (rx * (axx * rx + axy * ry + axz * rz) + ry * (axy * rx + ayy * ry + ayz * rz) +
-                         rz * (axz * rx + ayz * ry + azz * rz));
-        N += sigma * sigma * sigma * q;
-    });
-    return reduce(N);
-}
-#endif
 
 int MpuField::addSinglesAlongSegment(const Vec3& p0, const Vec3& D, std::span<const uint32_t> singles,
                                      SegmentPolynomialSum<8>& sum) const {
