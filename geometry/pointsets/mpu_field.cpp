@@ -4,6 +4,7 @@
 #include <Eigen/Dense>
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -600,47 +601,37 @@ void MpuField::finish() {
     // Lane rows, each quadric about its ball's centre: the single-piece
     // locals' (indexed by local), then each piece of the sharp locals (from
     // sharpPieceRows_[local]), which a tracer's list may resolve to one.
-    auto rowOf = [&](const Local& l, const MpuQuadric& q) {
-        LaneRow lane;
-        Vec3 g;
-        const double c0 = q.evaluate(l.center, &g);
-        const double row[kLaneColumns] = {l.center.x(), l.center.y(), l.center.z(), 1.0 / (l.radius * l.radius),
-                                          c0, g.x(), g.y(), g.z(), q.A(0, 0), q.A(0, 1), q.A(0, 2), q.A(1, 1),
-                                          q.A(1, 2), q.A(2, 2)};
-        std::copy(row, row + kLaneColumns, lane.values);
-        return lane;
-    };
-    auto floatRowOf = [&](const Local& l, const MpuQuadric& q) {
-        FloatLaneRow lane;
-        const Vec3 centre = l.center.cast<float>().cast<double>();
+    // Each row twice: in doubles about the exact centre, and in floats about
+    // the centre rounded to float (floatLaneRows_).
+    auto rowAbout = [&](const Vec3& centre, const Local& l, const MpuQuadric& q) {
         Vec3 g;
         const double c0 = q.evaluate(centre, &g);
-        const double row[kLaneColumns] = {centre.x(), centre.y(), centre.z(), 1.0 / (l.radius * l.radius),
-                                          c0, g.x(), g.y(), g.z(), q.A(0, 0), q.A(0, 1), q.A(0, 2), q.A(1, 1),
-                                          q.A(1, 2), q.A(2, 2)};
-        std::transform(row, row + kLaneColumns, lane.values, [](double v) { return float(v); });
-        return lane;
+        return std::array<double, kLaneColumns>{centre.x(), centre.y(), centre.z(), 1.0 / (l.radius * l.radius),
+                                                c0, g.x(), g.y(), g.z(), q.A(0, 0), q.A(0, 1), q.A(0, 2), q.A(1, 1),
+                                                q.A(1, 2), q.A(2, 2)};
     };
-    auto addRows = [&](size_t at, const Local& l, const MpuQuadric& q) {
-        if (at == laneRows_.size()) {
+    auto addRows = [&](const Local& l, const MpuQuadric& q) {
+        const auto exact = rowAbout(l.center, l, q), rounded = rowAbout(l.center.cast<float>().cast<double>(), l, q);
+        std::copy(exact.begin(), exact.end(), laneRows_.emplace_back().values);
+        std::transform(rounded.begin(), rounded.end(), floatLaneRows_.emplace_back().values,
+                       [](double v) { return float(v); });
+    };
+    laneRows_.clear();
+    floatLaneRows_.clear();
+    sharpPieceRows_.assign(locals_.size(), 0);
+    for (const Local& l : locals_) {
+        if (l.combination == MpuCombination::Single) {
+            addRows(l, pieces_[l.first]);
+        } else {  // a zero row keeps rows indexed by local
             laneRows_.emplace_back();
             floatLaneRows_.emplace_back();
         }
-        laneRows_[at] = rowOf(l, q);
-        floatLaneRows_[at] = floatRowOf(l, q);
-    };
-    laneRows_.assign(locals_.size(), LaneRow{});
-    floatLaneRows_.assign(locals_.size(), FloatLaneRow{});
-    sharpPieceRows_.assign(locals_.size(), 0);
-    for (size_t i = 0; i < locals_.size(); ++i) {
-        const Local& l = locals_[i];
-        if (l.combination == MpuCombination::Single) addRows(i, l, pieces_[l.first]);
     }
     for (size_t i = 0; i < locals_.size(); ++i) {
         const Local& l = locals_[i];
         if (l.combination == MpuCombination::Single || l.combination == MpuCombination::Interpolant) continue;
         sharpPieceRows_[i] = uint32_t(laneRows_.size());
-        for (int k = 0; k < l.count; ++k) addRows(laneRows_.size(), l, pieces_[l.first + k]);
+        for (int k = 0; k < l.count; ++k) addRows(l, pieces_[l.first + k]);
     }
     // Each piece's |A| (Frobenius, at least the spectral norm, slightly
     // raised for rounding): its gradient g + 2 A y moves at most 2 |A| |dy|.
