@@ -9,12 +9,15 @@
 
 namespace isotrace::geometry {
 
-/// Doubles in the widest vector the build targets.
+/// Doubles in the widest vector the file is compiled for.
 using Lanes = std::experimental::native_simd<double>;
 
-/// The first `count` lanes (a run of fewer locals than lanes).
-inline Lanes::mask_type firstLanes(size_t count) {
-    const Lanes lane([](auto j) { return double(j); });
+/// The first `count` lanes (a run of fewer locals than lanes). A template,
+/// so that files compiled for other vector widths define no function of
+/// the same name (geometry/instruction_set.h).
+template <class L = Lanes>
+inline typename L::mask_type firstLanes(size_t count) {
+    const L lane([](auto j) { return double(j); });
     return lane < double(count);
 }
 

@@ -51,7 +51,10 @@ Image mergeTiles(const std::vector<FilmTile>& tiles, ImageMetadata* metadata) {
     full.extraChannels = first.image.extraChannels;
     full.extra.assign(size_t(full.width) * full.height * full.extraChannels.size(), 0.0f);
     std::vector<int> owner(size_t(full.width) * full.height, -1);
-    const char* mustMatch[] = {"isotrace:scene_hash", "isotrace:seed", "isotrace:spp", "isotrace:integrator"};
+    // Tiles of another version or numeric mode may differ by more than
+    // noise; the instruction set only reorders sums, and may differ.
+    const char* mustMatch[] = {"isotrace:version",    "isotrace:numeric_mode", "isotrace:scene_hash",
+                               "isotrace:seed",       "isotrace:spp",          "isotrace:integrator"};
     for (size_t t = 0; t < tiles.size(); ++t) {
         const std::string& path = tiles[t].file;
         const Image& tile = tiles[t].image;

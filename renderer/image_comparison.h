@@ -25,4 +25,13 @@ struct ImageDifference {
 /// Throws std::invalid_argument when sizes differ.
 ImageDifference compareImages(const Image& test, const Image& reference, double pixelThreshold = 0.1);
 
+/// How far `test` differs from `reference` measured against the Monte Carlo
+/// noise of `test`, estimated from `secondSeed`, a render of the same scene
+/// with another seed: the mean over 4x4 blocks and channels of the squared
+/// block-mean difference over its expected variance. About 1 where the two
+/// differ only by noise (or less, where they share samples), far above 3
+/// for a change even smaller than one pixel's noise. Throws
+/// std::invalid_argument when sizes differ.
+double noiseScore(const Image& test, const Image& reference, const Image& secondSeed);
+
 }  // namespace isotrace

@@ -10,7 +10,6 @@
 #include "renderer/camera.h"
 #include "geometry/tracing/implicit_surface.h"
 #include "renderer/integrator.h"
-#include "renderer/memory_pages.h"
 #include "renderer/progress_reporter.h"
 
 namespace isotrace {
@@ -32,11 +31,11 @@ Image render(const Scene& scene, const RenderOptions& options, RenderStatistics*
     image.y = window.y0;
     image.fullWidth = film.width;
     image.fullHeight = film.height;
-    assignZeros(image.rgb, size_t(image.width) * image.height * 3);
+    image.rgb.assign(size_t(image.width) * image.height * 3, 0.0f);
     const AovLayout aovs(options.aovs);
     image.extraChannels = aovs.channels();
     const size_t extraCount = image.extraChannels.size();
-    assignZeros(image.extra, size_t(image.width) * image.height * extraCount);
+    image.extra.assign(size_t(image.width) * image.height * extraCount, 0.0f);
 
     const PerspectiveCamera camera(scene.camera, film.width, film.height);
     const Integrator& integrator = *scene.integrator;

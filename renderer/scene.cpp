@@ -22,17 +22,11 @@ Scene::~Scene() {
     if (device_) rtcReleaseDevice(device_);
 }
 
-// Created when first needed, not with the scene: the executable loads
-// Embree while the scene's fields are built (commands/embree_on_demand.cpp).
+// Created when first needed, not with the scene: commands that trace no
+// rays never start Embree's threads. Embree picks its own kernels for the CPU.
 RTCDevice Scene::device() const {
     if (!device_) {
-        // Embree's AVX2 kernels, where the CPU has AVX-512 too: on this
-        // project's AMD EPYC hosts the AVX-512 kernels trace implicit
-        // surfaces (user geometry) 4% to 6% slower and triangles no faster
-        // (2026-12-06, interleaved isotrace render of bench/mpu_render's
-        // scene and of its own triangles). A cap, not a choice: older CPUs
-        // keep their best ISA.
-        device_ = rtcNewDevice("max_isa=avx2");
+        device_ = rtcNewDevice(nullptr);
         if (!device_) throw std::runtime_error("cannot create an Embree device");
         rtcSetDeviceErrorFunction(device_, embreeError, nullptr);
     }

@@ -5,7 +5,6 @@
 
 #include "renderer/area_light.h"
 #include "renderer/implicit_emitter_light.h"
-#include "renderer/memory_pages.h"
 
 namespace isotrace {
 
@@ -130,9 +129,6 @@ std::unique_ptr<Scene> SceneBuilder::build() {
         o.areaLight = int(scene_->lights.size());
         scene_->lights.push_back(std::make_unique<AreaLight>(std::move(triangles), *m.emission));
     }
-    // The cells' scratch goes back before Embree builds its tree, which is
-    // when a large scene's memory peaks.
-    releaseLargeFreedMemory();
     scene_->commit();
     // Emissive implicit objects are traced when sampled: their lights come
     // once the scene's structures exist.

@@ -1,4 +1,5 @@
 #include "geometry/pointsets/mpu_field.h"
+#include "geometry/pointsets/mpu_lane_kernels.h"
 #include "geometry/pointsets/mpu_numerator_model.h"
 
 #include <Eigen/Dense>
@@ -601,37 +602,37 @@ void MpuField::finish() {
     // Lane rows, each quadric about its ball's centre: the single-piece
     // locals' (indexed by local), then each piece of the sharp locals (from
     // sharpPieceRows_[local]), which a tracer's list may resolve to one.
-    // Each row twice: in doubles about the exact centre, and in floats about
-    // the centre rounded to float (floatLaneRows_).
-    auto rowAbout = [&](const Vec3& centre, const Local& l, const MpuQuadric& q) {
+    auto addRow = [&](const Local& l, const MpuQuadric& q) {
         Vec3 g;
-        const double c0 = q.evaluate(centre, &g);
-        return std::array<double, kLaneColumns>{centre.x(), centre.y(), centre.z(), 1.0 / (l.radius * l.radius),
-                                                c0, g.x(), g.y(), g.z(), q.A(0, 0), q.A(0, 1), q.A(0, 2), q.A(1, 1),
-                                                q.A(1, 2), q.A(2, 2)};
+        const double c0 = q.evaluate(l.center, &g);
+        double* row = laneRows_.emplace_back().values;
+        row[CenterX] = l.center.x();
+        row[CenterY] = l.center.y();
+        row[CenterZ] = l.center.z();
+        row[InverseRadius2] = 1.0 / (l.radius * l.radius);
+        row[C0] = c0;
+        row[Gx] = g.x();
+        row[Gy] = g.y();
+        row[Gz] = g.z();
+        row[Axx] = q.A(0, 0);
+        row[Axy] = q.A(0, 1);
+        row[Axz] = q.A(0, 2);
+        row[Ayy] = q.A(1, 1);
+        row[Ayz] = q.A(1, 2);
+        row[Azz] = q.A(2, 2);
     };
-    auto addRows = [&](const Local& l, const MpuQuadric& q) {
-        const auto exact = rowAbout(l.center, l, q), rounded = rowAbout(l.center.cast<float>().cast<double>(), l, q);
-        std::copy(exact.begin(), exact.end(), laneRows_.emplace_back().values);
-        std::transform(rounded.begin(), rounded.end(), floatLaneRows_.emplace_back().values,
-                       [](double v) { return float(v); });
-    };
+    static_assert(sizeof(LaneRow) == kMpuLaneColumns * sizeof(double));
     laneRows_.clear();
-    floatLaneRows_.clear();
     sharpPieceRows_.assign(locals_.size(), 0);
     for (const Local& l : locals_) {
-        if (l.combination == MpuCombination::Single) {
-            addRows(l, pieces_[l.first]);
-        } else {  // a zero row keeps rows indexed by local
-            laneRows_.emplace_back();
-            floatLaneRows_.emplace_back();
-        }
+        if (l.combination == MpuCombination::Single) addRow(l, pieces_[l.first]);
+        else laneRows_.emplace_back();  // a zero row keeps rows indexed by local
     }
     for (size_t i = 0; i < locals_.size(); ++i) {
         const Local& l = locals_[i];
         if (l.combination == MpuCombination::Single || l.combination == MpuCombination::Interpolant) continue;
         sharpPieceRows_[i] = uint32_t(laneRows_.size());
-        for (int k = 0; k < l.count; ++k) addRows(l, pieces_[l.first + k]);
+        for (int k = 0; k < l.count; ++k) addRow(l, pieces_[l.first + k]);
     }
     // Each piece's |A| (Frobenius, at least the spectral norm, slightly
     // raised for rounding): its gradient g + 2 A y moves at most 2 |A| |dy|.

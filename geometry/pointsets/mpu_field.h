@@ -205,11 +205,9 @@ public:
     Box3 bounds() const { return domain_; }
     /// How far blendSums and numerator over lists with single-piece locals
     /// may stray from the same sums taken one by one, relative to the
-    /// magnitudes summed (1 + |N| + |grad N| + W): single-precision lanes
-    /// where the build machine has AVX-512 (N measured within 2e-8 of that
-    /// scale, its gradient within 4e-6 after the weights' cancellations),
-    /// doubles elsewhere.
-    static double laneRelativeError();
+    /// magnitudes summed (1 + |N| + |grad N| + W): both sum in doubles, the
+    /// vector lanes in another order.
+    static constexpr double kLaneRelativeError = 1e-12;
     /// Terms summed at a typical point (evaluation cost): local functions,
     /// or for interpolants their centres.
     size_t termCount() const { return typicalTerms_; }
@@ -260,8 +258,7 @@ private:
     }
     /// The share of the sums of the one-piece terms whose lane rows are
     /// listed (single-piece locals, and pieces sharp locals are resolved
-    /// to), in vector lanes (mpu_field_lanes.cpp, built for the machine's
-    /// widest vectors).
+    /// to), in vector lanes (pointsets/mpu_lane_kernels.h).
     void addSingleLanes(const Vec3& p, std::span<const uint32_t> rows, MpuBlendSums& s) const;
     double singleLanesNumerator(const Vec3& p, std::span<const uint32_t> rows) const;
     template <class ForLocals>
@@ -286,25 +283,11 @@ private:
     /// lanes gather), then a row for each piece of each sharp local (from
     /// sharpPieceRows_). Other locals' rows are zero. A row is two aligned
     /// cache lines: a local's lanes read those two, where one column per
-    /// value read fourteen lines (3-4% of an MPU model's frame).
-    enum LaneColumn { CenterX, CenterY, CenterZ, InverseRadius2, C0, Gx, Gy, Gz, Axx, Axy, Axz, Ayy, Ayz, Azz, kLaneColumns };
+    /// value read fourteen lines.
     struct alignas(64) LaneRow {
         double values[16] = {};
     };
-    static_assert(kLaneColumns <= 16);
     std::vector<LaneRow> laneRows_;
-    /// The same rows in single precision, for the sums of N and its
-    /// gradient at a point (not the polynomials along segments): each
-    /// quadric taken about its centre rounded to float, so the weight's
-    /// centre moves by at most half a float's ulp (6e-8 of the coordinate),
-    /// and r = p - centre is formed from p split into two floats. A row is
-    /// one cache line, and on AVX-512 sixteen are transposed into lanes at
-    /// once: 1.7 ns a local against 3.0 for the double rows gathered lane by
-    /// lane, roots of N moved by at most 2e-8 on the 37,934-vertex model.
-    struct alignas(64) FloatLaneRow {
-        float values[16] = {};
-    };
-    std::vector<FloatLaneRow> floatLaneRows_;
     /// Per sharp local, the lane row of its first piece (its others follow).
     std::vector<uint32_t> sharpPieceRows_;
     /// Lists of up to this many locals take their resolved sharp locals in

@@ -2,11 +2,13 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <new>
 #include <stdexcept>
 #include <string>
 
 #include "geometry/input_error.h"
+#include "geometry/instruction_set.h"
 #include "renderer/partial_files.h"
 #include "renderer/version.h"
 
@@ -69,8 +71,20 @@ int runReportingErrors(const std::function<int()>& body) {
 
 int runIsotrace(int argc, const char* const* argv) {
     removePartialFilesOnSignal();
+    // The cap on the vector kernels (geometry/instruction_set.h) is read from
+    // the environment: a misspelt one is bad input, not silently ignored.
+    if (const char* cap = std::getenv("ISOTRACE_MAX_ISA"); cap && *cap) {
+        try {
+            geometry::instructionSetNamed(cap);
+        } catch (const std::invalid_argument& e) {
+            std::fprintf(stderr, "error: ISOTRACE_MAX_ISA: %s\n", e.what());
+            return kExitBadInput;
+        }
+    }
     CLI::App app{"isotrace: a physically based renderer for implicit surfaces"};
-    app.set_version_flag("--version", std::string("isotrace ") + kVersion);
+    app.set_version_flag("--version", std::string("isotrace ") + kVersion + " (numeric mode " + kNumericMode + ", " +
+                                          std::string(geometry::instructionSetName(geometry::activeInstructionSet())) +
+                                          " kernels)");
     app.require_subcommand(1);
     // Usage errors read like every other error: "error: " and the cause.
     app.failure_message([](const CLI::App*, const CLI::Error& e) {

@@ -100,32 +100,6 @@ Image load(const std::string& path) {
     }
 }
 
-// Per-pixel variance of a render, from two renders with different seeds:
-// E[(a1 - a2)^2] = 2 sigma^2, averaged over a 5x5 window to tame the
-// estimate's own noise.
-std::vector<double> varianceFromPair(const Image& a1, const Image& a2) {
-    std::vector<double> raw(a1.rgb.size()), smooth(a1.rgb.size());
-    for (size_t i = 0; i < raw.size(); ++i) {
-        const double d = double(a1.rgb[i]) - double(a2.rgb[i]);
-        raw[i] = std::isfinite(d) ? 0.5 * d * d : 0.0;
-    }
-    for (int y = 0; y < a1.height; ++y)
-        for (int x = 0; x < a1.width; ++x)
-            for (int c = 0; c < 3; ++c) {
-                double sum = 0;
-                int n = 0;
-                for (int dy = -2; dy <= 2; ++dy)
-                    for (int dx = -2; dx <= 2; ++dx) {
-                        const int u = x + dx, v = y + dy;
-                        if (u < 0 || v < 0 || u >= a1.width || v >= a1.height) continue;
-                        sum += raw[3 * (size_t(v) * a1.width + u) + c];
-                        ++n;
-                    }
-                smooth[3 * (size_t(y) * a1.width + x) + c] = sum / n;
-            }
-    return smooth;
-}
-
 void writeDifference(const std::string& path, const Image& a, const Image& b) {
     Image d = b;
     d.x = d.y = 0;
@@ -176,39 +150,7 @@ int runCompare(const CompareCommand& c) {
         const ImageShape n = shapeOf(c.noise);
         if (n.width != a.width || n.height != a.height)
             throw InputError(c.noise, "", "size differs from " + c.test + "'s");
-        const std::vector<double> variance = varianceFromPair(test, load(c.noise));
-        // The reference is taken to carry the same noise as the test render,
-        // so a pixel's difference has variance 2 sigma^2. Differences are
-        // averaged over 4x4 blocks first: noise shrinks there by 4 while a
-        // real change does not, so a change too small to see in one pixel
-        // still stands out. Pixels are sampled independently, so pure noise
-        // scores about 1.
-        constexpr int kBlock = 4;
-        double sum = 0;
-        size_t count = 0;
-        for (int by = 0; by < test.height; by += kBlock)
-            for (int bx = 0; bx < test.width; bx += kBlock)
-                for (int ch = 0; ch < 3; ++ch) {
-                    double diff = 0, var = 0;
-                    int n = 0;
-                    for (int y = by; y < std::min(by + kBlock, test.height); ++y)
-                        for (int x = bx; x < std::min(bx + kBlock, test.width); ++x) {
-                            const size_t i = 3 * (size_t(y) * test.width + x) + ch;
-                            const double d = double(test.rgb[i]) - double(reference.rgb[i]);
-                            if (!std::isfinite(d)) continue;
-                            diff += d;
-                            var += 2.0 * variance[i];
-                            ++n;
-                        }
-                    // Noise-free blocks that also agree (a plain background)
-                    // carry no evidence either way.
-                    if (n == 0 || (var == 0 && diff == 0)) continue;
-                    diff /= n;
-                    var /= double(n) * n;
-                    sum += diff * diff / (var + 1e-12);
-                    ++count;
-                }
-        noiseScore = count ? sum / count : 0.0;
+        noiseScore = isotrace::noiseScore(test, reference, load(c.noise));
     }
 
     const bool flipMetric = c.metric.rfind("flip", 0) == 0;

@@ -9,6 +9,7 @@
 
 #include "geometry/content_hash.h"
 #include "geometry/input_error.h"
+#include "geometry/instruction_set.h"
 #include "geometry/mesh_file.h"
 #include "renderer/commands/command.h"
 #include "renderer/image_output.h"
@@ -136,6 +137,10 @@ int runRender(const RenderCommand& cmd) {
     options.quiet = cmd.quiet;
     ImageMetadata meta;
     meta.strings = {{"Software", std::string("isotrace ") + kVersion},
+                    {"isotrace:version", kVersion},
+                    {"isotrace:numeric_mode", kNumericMode},
+                    {"isotrace:instruction_set",
+                     std::string(geometry::instructionSetName(geometry::activeInstructionSet()))},
                     {"isotrace:scene", cmd.scene},
                     {"isotrace:scene_hash", sceneHash(cmd.scene)},
                     {"isotrace:spp", std::to_string(scene->film.samplesPerPixel)},

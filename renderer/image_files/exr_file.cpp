@@ -239,7 +239,8 @@ void ExrRowWriter::finish(const std::vector<std::pair<std::string, std::string>>
         encoder_->file.reset();  // writes the table of row-band offsets
         FileStream& stream = encoder_->stream;
         for (const auto& [name, value] : lateValues) {
-            const auto reserved = std::find_if(late_.begin(), late_.end(), [&](const auto& l) { return l.first == name; });
+            const auto reserved =
+                std::find_if(late_.begin(), late_.end(), [&name = name](const auto& l) { return l.first == name; });
             if (reserved == late_.end() || value.size() > reserved->second)
                 throw std::logic_error("ExrRowWriter::finish: no room was reserved for \"" + name + "\" = \"" + value + "\"");
             const size_t at = stringValueOffset(stream.head(), name);

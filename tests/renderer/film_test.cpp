@@ -36,7 +36,11 @@ FilmTile tileOf(const std::string& file, int y0, int y1, const std::string& seed
     t.image.fullHeight = 4;
     for (int y = y0; y < y1; ++y)
         for (int x = 0; x < 3; ++x) t.image.rgb.insert(t.image.rgb.end(), {float(x), float(y), 7.0f});
-    t.metadata.strings = {{"isotrace:seed", seed}, {"isotrace:spp", "4"}};
+    t.metadata.strings = {{"isotrace:seed", seed},
+                          {"isotrace:spp", "4"},
+                          {"isotrace:version", "1.0.0"},
+                          {"isotrace:numeric_mode", "double"},
+                          {"isotrace:instruction_set", "avx2"}};
     return t;
 }
 
@@ -72,6 +76,33 @@ TEST(MergeTiles, RefusesGapsOverlapsAndForeignTiles) {
     FilmTile plain = tileOf("c.exr", 2, 4);
     plain.metadata.strings.clear();
     EXPECT_NE(message({tileOf("a.exr", 0, 2), plain}).find("c.exr: not an isotrace render"), std::string::npos);
+}
+
+// Tiles rendered by another version or in another numeric mode may differ by
+// more than noise: refused, naming both values. The instruction set only
+// reorders sums: tiles of AVX2 and AVX-512 nodes merge.
+TEST(MergeTiles, RefusesTilesOfAnotherVersionOrNumericMode) {
+    auto withValue = [](FilmTile tile, const std::string& key, const std::string& value) {
+        for (auto& [name, v] : tile.metadata.strings)
+            if (name == key) v = value;
+        return tile;
+    };
+    auto message = [](const std::vector<FilmTile>& tiles) {
+        try {
+            mergeTiles(tiles);
+        } catch (const geometry::InputError& e) {
+            return std::string(e.what());
+        }
+        return std::string("merged");
+    };
+    const FilmTile top = tileOf("top.exr", 0, 2), bottom = tileOf("bottom.exr", 2, 4);
+    EXPECT_EQ(message({top, bottom}), "merged");
+    EXPECT_EQ(message({top, withValue(bottom, "isotrace:instruction_set", "avx512")}), "merged");
+    const std::string version = message({top, withValue(bottom, "isotrace:version", "1.1.0")});
+    EXPECT_NE(version.find("bottom.exr: isotrace:version is \"1.1.0\" but top.exr has \"1.0.0\""), std::string::npos)
+        << version;
+    const std::string mode = message({top, withValue(bottom, "isotrace:numeric_mode", "single")});
+    EXPECT_NE(mode.find("isotrace:numeric_mode is \"single\" but top.exr has \"double\""), std::string::npos) << mode;
 }
 
 TEST(FilmMemory, GrowsWithThePixelCount) {

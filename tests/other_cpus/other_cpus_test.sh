@@ -1,0 +1,52 @@
+#!/usr/bin/env bash
+# The binary runs where it was not built: small renders of the showcase, a
+# variational scene and an MPU scene under qemu-user emulating a Haswell
+# (AVX2 and FMA, no AVX-512) and a Nehalem (SSE4.2 only), each compared with
+# the native render of the same seed against the native render's own Monte
+# Carlo noise (`compare --metric noise`, limit 3: the regression suite's
+# tolerance, derived in tests/renderer/scene_regression_test.cpp). Each
+# emulated render must also report the instruction set it ran (the EXR's
+# isotrace:instruction_set). Skipped, with the reason, without qemu-x86_64:
+# .ci/setup installs it when ISOTRACE_INSTALL_QEMU=1.
+#   bash tests/other_cpus/other_cpus_test.sh build/isotrace
+set -euo pipefail
+isotrace=$(realpath "${1:?usage: other_cpus_test.sh ISOTRACE}")
+root=$(cd "$(dirname "$0")/../.." && pwd)
+if ! command -v qemu-x86_64 > /dev/null; then
+  echo "other_cpus_test: SKIPPED: qemu-x86_64 is not installed (apt-get install qemu-user)"
+  exit 0
+fi
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+# Fits are made once, natively, and read back from the cache by the
+# emulated runs: emulation is slow, and the renders are what is compared.
+export ISOTRACE_CACHE_DIR="$work/cache"
+settings=(--width 48 --height 36 --spp 8 --threads 2 --no-preview --quiet)
+failed=0
+for scene in showcase variational_hand scans; do
+  "$isotrace" render "$root/scenes/$scene.json" "${settings[@]}" --seed 1 -o "$work/$scene.native.exr"
+  "$isotrace" render "$root/scenes/$scene.json" "${settings[@]}" --seed 2 -o "$work/$scene.native2.exr"
+  for cpu in Haswell:avx2 Nehalem:sse2; do
+    model=${cpu%%:*} expected=${cpu##*:}
+    out="$work/$scene.$model.exr"
+    start=$(date +%s)
+    if ! qemu-x86_64 -cpu "$model" "$isotrace" render "$root/scenes/$scene.json" "${settings[@]}" --seed 1 -o "$out"; then
+      echo "other_cpus_test: FAILED: $scene under -cpu $model exited non-zero" >&2
+      failed=1
+      continue
+    fi
+    seconds=$(($(date +%s) - start))
+    if ! grep -aq "isotrace:instruction_set.*$expected" "$out"; then
+      echo "other_cpus_test: FAILED: $scene under -cpu $model did not run the $expected kernels" >&2
+      failed=1
+    fi
+    if score=$("$isotrace" compare "$out" "$work/$scene.native.exr" --metric noise --noise "$work/$scene.native2.exr"); then
+      echo "other_cpus_test: $scene on $model ($expected kernels, ${seconds} s): $score"
+    else
+      echo "other_cpus_test: FAILED: $scene on $model differs from the native render by more than noise: $score" >&2
+      failed=1
+    fi
+  done
+done
+if ((failed)); then exit 1; fi
+echo "other_cpus_test: PASSED"
