@@ -34,7 +34,7 @@
 
 #include "geometry/bounding_box.h"
 #include "geometry/interval.h"
-#include "geometry/lanes.h"
+#include "geometry/pointsets/mpu_weight_bounds.h"
 #include "geometry/variational/variational_field.h"
 #include "geometry/vector_types.h"
 
@@ -314,25 +314,7 @@ inline double mpuWeight(double r2, double radius2) {
     return s * s * s;
 }
 
-/// The largest |d/dr (1 - r^2/R^2)^3| R: 6 t (1 - t^2)^2 at t = 1/sqrt 5.
-constexpr double kMpuWeightSlope = 1.7173285067805897;
-
-/// The largest |grad w| of a ball of radius R over distances in `distance`
-/// from its centre: 6 r (1 - r^2/R^2)^2 / R^2 rises up to r = R / sqrt 5 and
-/// falls after.
-/// Written once for doubles and vector lanes (geometry/lanes.h): MPU
-/// numerator models bound a tracing cell's locals eight at a time.
-template <class T>
-T mpuWeightSlope(const T& distanceLo, const T& distanceHi, const T& R) {
-    const T peak = R / std::sqrt(5.0);
-    const T a = distanceLo, b = lesser(distanceHi, R);
-    auto slope = [&R](const T& r) {
-        const T s = 1.0 - r * r / (R * R);
-        return T(6.0 * r * s * s / (R * R));
-    };
-    const T within = select(b <= peak, slope(b), select(a >= peak, slope(a), T(kMpuWeightSlope / R)));
-    return select(a >= R, T(0.0), within);
-}
+/// The largest |grad w| over distances in `distance` (mpu_weight_bounds.h).
 inline double mpuWeightSlope(const Interval& distance, double R) {
     return mpuWeightSlope<double>(distance.lo, distance.hi, R);
 }

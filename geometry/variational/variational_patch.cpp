@@ -115,7 +115,6 @@ struct Powers {
     }
 };
 
-inline double delta(int i, int j) { return i == j ? 1.0 : 0.0; }
 
 // Bound on |d^5/dt^5 |x + t u|^3| * r^2 for unit u (see the header).
 constexpr double kFifthDerivative = 12.88;

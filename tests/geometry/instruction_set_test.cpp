@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "geometry/pointsets/mpu_lane_kernels.h"
+#include "geometry/pointsets/mpu_model_kernels.h"
 #include "geometry/variational/rbf_kernels.h"
 
 using namespace isotrace::geometry;
@@ -22,15 +23,19 @@ struct KernelSet {
     InstructionSet set;
     const MpuLaneKernels* mpu;
     const RbfKernels* rbf;
+    const MpuModelKernels* model;
 };
 
 // The sets this CPU can run, baseline first.
 std::vector<KernelSet> runnableSets() {
-    std::vector<KernelSet> sets = {{InstructionSet::SSE2, &sse2::kMpuLaneKernels, &sse2::kRbfKernels}};
+    std::vector<KernelSet> sets = {
+        {InstructionSet::SSE2, &sse2::kMpuLaneKernels, &sse2::kRbfKernels, &sse2::kMpuModelKernels}};
     const InstructionSet cpu = cpuInstructionSet();
-    if (cpu >= InstructionSet::AVX2) sets.push_back({InstructionSet::AVX2, &avx2::kMpuLaneKernels, &avx2::kRbfKernels});
+    if (cpu >= InstructionSet::AVX2)
+        sets.push_back({InstructionSet::AVX2, &avx2::kMpuLaneKernels, &avx2::kRbfKernels, &avx2::kMpuModelKernels});
     if (cpu >= InstructionSet::AVX512)
-        sets.push_back({InstructionSet::AVX512, &avx512::kMpuLaneKernels, &avx512::kRbfKernels});
+        sets.push_back(
+            {InstructionSet::AVX512, &avx512::kMpuLaneKernels, &avx512::kRbfKernels, &avx512::kMpuModelKernels});
     return sets;
 }
 
@@ -201,6 +206,52 @@ TEST(InstructionSet, RbfKernelsOfEverySetAreThePlainSums) {
                 EXPECT_NEAR(t.gradient[a], gradient[a], tolerance) << name;
             }
             EXPECT_NEAR(k.rbf->hessianBound(terms, lo, hi), hessianBound, 1e-13 * hessianBound) << name;
+        }
+    }
+}
+
+// The numerator models' sums over a box: every set gives the baseline's
+// sums, the bounds' shares too (each lane takes the same branches; only the
+// order of the sums changes), for counts that leave partial runs of lanes.
+TEST(InstructionSet, MpuModelKernelsOfEverySetAgree) {
+    std::mt19937_64 rng(17);
+    std::uniform_real_distribution<double> u(-1, 1);
+    using C = MpuModelColumn;
+    for (size_t count : {size_t(1), size_t(5), size_t(8), size_t(13), size_t(40)}) {
+        const size_t stride = (count + kMpuModelColumnPadding - 1) / kMpuModelColumnPadding * kMpuModelColumnPadding;
+        std::vector<double> columns(stride * C::kColumns, 0.0);
+        auto at = [&](C::Column c, size_t k) -> double& { return columns[size_t(c) * stride + k]; };
+        for (size_t k = 0; k < count; ++k) {
+            const double radius = 0.4 + 0.6 * std::abs(u(rng));
+            for (C::Column c : {C::CenterX, C::CenterY, C::CenterZ}) at(c, k) = 0.4 * u(rng);
+            at(C::Radius, k) = radius;
+            at(C::InverseRadius2, k) = 1 / (radius * radius);
+            for (int c = C::OriginX; c <= C::C0; ++c) at(C::Column(c), k) = u(rng);
+            at(C::Curvature, k) = 2.0;
+        }
+        const double c[3] = {0.05, -0.02, 0.03};
+        for (double h : {0.02, 0.3}) {
+            const double lower[3] = {c[0] - h, c[1] - h, c[2] - h}, upper[3] = {c[0] + h, c[1] + h, c[2] + h};
+            const double rho = h * std::sqrt(3.0);
+            std::vector<MpuColumnSums> results;
+            for (const KernelSet& k : runnableSets()) {
+                results.emplace_back();
+                k.model->sumColumns(columns.data(), stride, count, c, lower, upper, rho, results.back());
+            }
+            const MpuColumnSums& base = results.front();
+            EXPECT_GT(base.ownThird, 0.0) << "the balls reach the box";
+            for (size_t s = 1; s < results.size(); ++s) {
+                const MpuColumnSums& r = results[s];
+                auto close = [](double a, double b) { return std::abs(a - b) <= 1e-12 * (1 + std::abs(b)); };
+                EXPECT_TRUE(close(r.value, base.value)) << count << " locals, set " << s;
+                for (int j = 0; j < 3; ++j) EXPECT_TRUE(close(r.gradient[j], base.gradient[j]));
+                for (int j = 0; j < 6; ++j) EXPECT_TRUE(close(r.hessian[j], base.hessian[j]));
+                for (int j = 0; j < 10; ++j) EXPECT_TRUE(close(r.tensor[j], base.tensor[j]));
+                EXPECT_TRUE(close(r.ownThird, base.ownThird) && close(r.fourth, base.fourth) &&
+                            close(r.apart, base.apart) && close(r.scale, base.scale) &&
+                            close(r.directValue, base.directValue) && close(r.directSlope, base.directSlope))
+                    << count << " locals, set " << s;
+            }
         }
     }
 }
