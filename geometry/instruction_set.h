@@ -28,4 +28,15 @@ std::string_view instructionSetName(InstructionSet set);
 /// The set a name gives; throws std::invalid_argument naming the known ones.
 InstructionSet instructionSetNamed(std::string_view name);
 
+/// Of a kernel table compiled once per set, the one the active set runs.
+template <class Table>
+const Table& tableForActiveSet(const Table& sse2, const Table& avx2, const Table& avx512) {
+    switch (activeInstructionSet()) {
+    case InstructionSet::AVX512: return avx512;
+    case InstructionSet::AVX2: return avx2;
+    case InstructionSet::SSE2: break;
+    }
+    return sse2;
+}
+
 }  // namespace isotrace::geometry

@@ -8,14 +8,8 @@
 namespace isotrace::geometry {
 
 const MpuLaneKernels& mpuLaneKernels() {
-    static const MpuLaneKernels& chosen = [&]() -> const MpuLaneKernels& {
-        switch (activeInstructionSet()) {
-        case InstructionSet::AVX512: return avx512::kMpuLaneKernels;
-        case InstructionSet::AVX2: return avx2::kMpuLaneKernels;
-        case InstructionSet::SSE2: break;
-        }
-        return sse2::kMpuLaneKernels;
-    }();
+    static const MpuLaneKernels& chosen =
+        tableForActiveSet(sse2::kMpuLaneKernels, avx2::kMpuLaneKernels, avx512::kMpuLaneKernels);
     return chosen;
 }
 

@@ -16,14 +16,8 @@ static_assert(int(MpuLocalColumns::kColumns) == int(MpuModelColumn::kColumns) &&
               "the kernels read the columns in MpuLocalColumns' order");
 
 const MpuModelKernels& mpuModelKernels() {
-    static const MpuModelKernels& chosen = []() -> const MpuModelKernels& {
-        switch (activeInstructionSet()) {
-        case InstructionSet::AVX512: return avx512::kMpuModelKernels;
-        case InstructionSet::AVX2: return avx2::kMpuModelKernels;
-        case InstructionSet::SSE2: break;
-        }
-        return sse2::kMpuModelKernels;
-    }();
+    static const MpuModelKernels& chosen =
+        tableForActiveSet(sse2::kMpuModelKernels, avx2::kMpuModelKernels, avx512::kMpuModelKernels);
     return chosen;
 }
 

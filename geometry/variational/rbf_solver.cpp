@@ -1,5 +1,8 @@
 #include "geometry/variational/rbf_solver.h"
 
+#include "geometry/instruction_set.h"
+#include "geometry/variational/dense_solver_kernels.h"
+
 #include <Eigen/Cholesky>
 #include <Eigen/QR>
 #include <algorithm>
@@ -98,6 +101,12 @@ void checkConstraints(const ConstraintSet& set) {
     rejectCoincident(set.gradients, 1e-9 * size, "gradient");
 }
 
+const DenseSolverKernels& denseSolverKernels() {
+    static const DenseSolverKernels& chosen =
+        tableForActiveSet(sse2::kDenseSolverKernels, avx2::kDenseSolverKernels, avx512::kDenseSolverKernels);
+    return chosen;
+}
+
 VariationalField solveVariationalSystem(const ConstraintSet& set, double* reciprocalCondition) {
     const size_t n = set.values.size(), k = set.gradients.size();
     const size_t m = n + 3 * k;  // functionals: values, then gradient components
@@ -160,13 +169,11 @@ VariationalField solveVariationalSystem(const ConstraintSet& set, double* recipr
     Eigen::VectorXd gamma = Eigen::VectorXd::Zero(free);
     double rcond = 1.0;
     if (free > 0) {
-        Eigen::Ref<Eigen::MatrixXd> block = A.bottomRightCorner(free, free);
-        const Eigen::LLT<Eigen::Ref<Eigen::MatrixXd>> llt(block);
-        if (llt.info() != Eigen::Success)
+        // The trailing block, factored in place (A is column-major, m rows).
+        gamma = qh.tail(free);
+        if (!denseSolverKernels().choleskySolve(&A(4, 4), size_t(free), size_t(A.outerStride()), gamma.data(), &rcond))
             throw FitError("the projected system is not positive definite: constraints too close together for "
                            "double precision (or nearly all in one plane); thin them out");
-        rcond = llt.rcond();
-        gamma = llt.solve(qh.tail(free));
     }
     // Polynomial: R c = (Q^T h)_top - (Q^T A Q)_top,right gamma (that block
     // is untouched by the in-place factorisation).

@@ -18,14 +18,8 @@ RbfTerms termsOf(const VariationalField& f) {
 }  // namespace
 
 const RbfKernels& rbfKernels() {
-    static const RbfKernels& chosen = []() -> const RbfKernels& {
-        switch (activeInstructionSet()) {
-        case InstructionSet::AVX512: return avx512::kRbfKernels;
-        case InstructionSet::AVX2: return avx2::kRbfKernels;
-        case InstructionSet::SSE2: break;
-        }
-        return sse2::kRbfKernels;
-    }();
+    static const RbfKernels& chosen =
+        tableForActiveSet(sse2::kRbfKernels, avx2::kRbfKernels, avx512::kRbfKernels);
     return chosen;
 }
 

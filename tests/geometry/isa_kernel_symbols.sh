@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The objects of the vector kernels (geometry/CMakeLists.txt,
 # isotrace_isa_kernels) may define, as global or weak symbols, only names in
-# their own namespace, isotrace::geometry::<set>::. Anything else (an inline
+# their own namespaces, isotrace::geometry::<set>:: and isotrace_eigen_<set>::. Anything else (an inline
 # function of a shared header, a template both they and the baseline files
 # instantiate) would be one name with two definitions, and the linker could
 # keep the AVX-512 one for every caller, to die on an AVX2 machine.
@@ -22,6 +22,8 @@ for object in "${objects[@]}"; do
   while read -r type name; do
     case "$name" in
       "isotrace::geometry::$isa::"*) ;;
+      # Eigen compiled under a name of the set's own (dense_solver_kernels.cpp).
+      "isotrace_eigen_$isa::"*|*" isotrace_eigen_$isa::"*) ;;
       # The exception personality's address, the same in every object.
       DW.ref.__gxx_personality_v0) ;;
       *) echo "isa_kernel_symbols: $(basename "$object") defines $type $name" >&2; failed=1 ;;

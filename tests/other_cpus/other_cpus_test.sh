@@ -9,11 +9,16 @@
 # emulated render must also report the instruction set it ran (the EXR's
 # isotrace:instruction_set). Skipped, with the reason, without qemu-x86_64:
 # .ci/setup installs it when ISOTRACE_INSTALL_QEMU=1.
-#   bash tests/other_cpus/other_cpus_test.sh build/isotrace
+# With --caps, the same scenes natively with the kernels capped at SSE2 and
+# at AVX2 (ISOTRACE_MAX_ISA) against the widest this CPU has: no emulator
+# needed, so it always runs.
+#   bash tests/other_cpus/other_cpus_test.sh [--caps] build/isotrace
 set -euo pipefail
-isotrace=$(realpath "${1:?usage: other_cpus_test.sh ISOTRACE}")
+mode=qemu
+if [ "${1:-}" = "--caps" ]; then mode=caps; shift; fi
+isotrace=$(realpath "${1:?usage: other_cpus_test.sh [--caps] ISOTRACE}")
 root=$(cd "$(dirname "$0")/../.." && pwd)
-if ! command -v qemu-x86_64 > /dev/null; then
+if [ "$mode" = qemu ] && ! command -v qemu-x86_64 > /dev/null; then
   echo "other_cpus_test: SKIPPED: qemu-x86_64 is not installed (apt-get install qemu-user)"
   exit 0
 fi
@@ -29,14 +34,20 @@ for file in scenes/showcase.json scenes/variational_figures.json tests/other_cpu
   scene=$(basename "$file" .json)
   "$isotrace" render "$root/$file" "${settings[@]}" --seed 1 -o "$work/$scene.native.exr"
   "$isotrace" render "$root/$file" "${settings[@]}" --seed 2 -o "$work/$scene.native2.exr"
-  for cpu in Haswell:avx2 Nehalem:sse2; do
+  if [ "$mode" = qemu ]; then runs=(Haswell:avx2 Nehalem:sse2); else runs=(cap:avx2 cap:sse2); fi
+  for cpu in "${runs[@]}"; do
     model=${cpu%%:*} expected=${cpu##*:}
-    out="$work/$scene.$model.exr"
+    out="$work/$scene.$model.$expected.exr"
     start=$(date +%s)
-    # TCG names the host features it does not emulate on every start.
-    if ! qemu-x86_64 -cpu "$model" "$isotrace" render "$root/$file" "${settings[@]}" --seed 1 -o "$out" \
+    if [ "$mode" = qemu ]; then
+      # TCG names the host features it does not emulate on every start.
+      run=(qemu-x86_64 -cpu "$model" "$isotrace")
+    else
+      run=(env ISOTRACE_MAX_ISA="$expected" "$isotrace")
+    fi
+    if ! "${run[@]}" render "$root/$file" "${settings[@]}" --seed 1 -o "$out" \
         2> >(grep -v "TCG doesn't support requested feature" >&2); then
-      echo "other_cpus_test: FAILED: $scene under -cpu $model exited non-zero" >&2
+      echo "other_cpus_test: FAILED: $scene on $model ($expected) exited non-zero" >&2
       failed=1
       continue
     fi
