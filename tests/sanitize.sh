@@ -31,7 +31,8 @@ export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 export LSAN_OPTIONS=suppressions=$PWD/tests/sanitizer_suppressions.txt:print_suppressions=0
 # Left out: the image regressions (above), the installed-package test,
 # whose consumer is built without the sanitizers and so cannot link the
-# instrumented library, and the whole-program runs on emulated CPUs and on a
-# Slurm farm (the plain build runs them). (Sanitized tests run 3-10x slower: tests/CMakeLists.txt
+# instrumented library, and the whole-program runs on emulated CPUs, with
+# capped kernels, from the Debian package and on a Slurm farm (the plain
+# build runs them). (Sanitized tests run 3-10x slower: tests/CMakeLists.txt
 # gives them longer timeouts.)
-ctest --test-dir build-sanitize --output-on-failure -j2 -E 'SceneRegression|installed_geometry_package|OtherCpus|SlurmFarm' "${shard[@]}"
+ctest --test-dir build-sanitize --output-on-failure -j2 -E 'SceneRegression|installed_geometry_package|OtherCpus|InstructionSetCaps|DebianPackage|SlurmFarm' "${shard[@]}"

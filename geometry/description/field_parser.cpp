@@ -439,10 +439,14 @@ uint32_t makeTransform(Compiler& c, JsonObjectReader& r, const LeafPlacement& p)
     const Mat3 inverse = a.inverse();
     // The smallest singular value. GCC 12 warns falsely that Eigen's
     // fixed-size SVD may leave it uninitialised.
+#if defined(__GNUC__) && !defined(__clang__)
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#endif
     const double sigma = Eigen::JacobiSVD<Mat3>(a).singularValues()(2);
+#if defined(__GNUC__) && !defined(__clang__)
 #pragma GCC diagnostic pop
+#endif
     return c.operand(r, p.composed(inverse, -inverse * translate, sigma));
 }
 
