@@ -218,7 +218,7 @@ TEST(MpuNumeratorModel, SharpLocalsResolvedToOnePieceSumAsBefore) {
             for (int k = 0; k < 40; ++k) {
                 const Vec3 x = c + Vec3(u(rng), u(rng), u(rng)).cwiseProduct(half);
                 const MpuBlendSums a = field.blendSums(x, choosing), b = field.blendSums(x, taking);
-                // The resolved pieces join the lanes (single precision on AVX-512).
+                // The resolved pieces join the lanes (summed in another order).
                 const double scale = MpuField::kLaneRelativeError * (1.0 + std::abs(a.N) + a.gradientN.norm());
                 ASSERT_NEAR(b.N, a.N, scale) << "box " << i << " of size " << size;
                 ASSERT_LE((b.gradientN - a.gradientN).norm(), scale) << "box " << i << " of size " << size;
