@@ -15,7 +15,7 @@ using Lanes = std::experimental::native_simd<double>;
 /// The first `count` lanes (a run of fewer locals than lanes). A template,
 /// so that files compiled for other vector widths define no function of
 /// the same name (geometry/instruction_set.h).
-template <class L = Lanes>
+template <class L>
 [[gnu::always_inline]] inline typename L::mask_type firstLanes(size_t count) {
     const L lane([](auto j) { return double(j); });
     return lane < double(count);

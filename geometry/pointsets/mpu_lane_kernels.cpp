@@ -28,13 +28,12 @@ template <class Visit>
 [[gnu::always_inline]] inline void forLaneRuns(const double* rows, const uint32_t* listed, size_t count,
                                                Visit&& visit) {
     constexpr size_t kWidth = L::size();
-    const L lane([](auto j) { return double(j); });
     for (size_t first = 0; first < count; first += kWidth) {
         const size_t run = count - first < kWidth ? count - first : kWidth;
         const double* row[kWidth];
         for (size_t j = 0; j < kWidth; ++j) row[j] = rows + kMpuLaneColumns * listed[first + (j < run ? j : 0)];
         auto load = [&](int column) { return L([&](auto j) { return row[j][column]; }); };
-        visit(load, lane < double(run));
+        visit(load, firstLanes<L>(run));
     }
 }
 
