@@ -3,8 +3,8 @@
 // compared with itself.
 #include "fuzz_support.h"
 
-#include "renderer/image_comparison.h"
-#include "renderer/image_output.h"
+#include "renderer/image/image_comparison.h"
+#include "renderer/image/image_output.h"
 
 using namespace isotrace;
 

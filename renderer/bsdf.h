@@ -16,7 +16,7 @@
 
 #include "renderer/color.h"
 #include "renderer/ray.h"
-#include "renderer/sampler.h"
+#include "renderer/sampling/sampler.h"
 
 namespace isotrace {
 

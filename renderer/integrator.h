@@ -8,8 +8,8 @@
 
 #include "renderer/color.h"
 #include "renderer/registry.h"
-#include "renderer/sampler.h"
-#include "renderer/sampling.h"
+#include "renderer/sampling/sampler.h"
+#include "renderer/sampling/sampling.h"
 #include "renderer/scene.h"
 
 namespace isotrace {

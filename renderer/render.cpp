@@ -10,7 +10,7 @@
 #include "renderer/camera.h"
 #include "geometry/tracing/implicit_surface.h"
 #include "renderer/integrator.h"
-#include "renderer/progress_reporter.h"
+#include "renderer/platform/progress_reporter.h"
 
 namespace isotrace {
 

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "renderer/film.h"
+#include "renderer/image/film.h"
 #include "renderer/scene.h"
 
 namespace isotrace {

@@ -11,11 +11,11 @@
 
 #include "geometry/tracing/implicit_surface.h"
 #include "renderer/camera.h"
-#include "renderer/film.h"
+#include "renderer/image/film.h"
 #include "renderer/light.h"
 #include "renderer/light_sampler.h"
 #include "renderer/material.h"
-#include "renderer/mirror_image_light.h"
+#include "renderer/plane_mirror.h"
 #include "renderer/triangle_mesh.h"
 
 namespace isotrace {

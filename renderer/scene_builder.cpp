@@ -3,8 +3,7 @@
 #include <stdexcept>
 #include <type_traits>
 
-#include "renderer/area_light.h"
-#include "renderer/implicit_emitter_light.h"
+#include "renderer/object_lights.h"
 
 namespace isotrace {
 
@@ -127,7 +126,7 @@ std::unique_ptr<Scene> SceneBuilder::build() {
             triangles.push_back(tri);
         }
         o.areaLight = int(scene_->lights.size());
-        scene_->lights.push_back(std::make_unique<AreaLight>(std::move(triangles), *m.emission));
+        scene_->lights.push_back(makeAreaLight(std::move(triangles), *m.emission));
     }
     scene_->commit();
     // Emissive implicit objects are traced when sampled: their lights come
@@ -136,7 +135,7 @@ std::unique_ptr<Scene> SceneBuilder::build() {
         const Material& m = scene_->materials[o.material];
         if (!m.emission || o.kind != SceneObject::Kind::Implicit) continue;
         o.areaLight = int(scene_->lights.size());
-        scene_->lights.push_back(std::make_unique<ImplicitEmitterLight>(*scene_, o, *m.emission));
+        scene_->lights.push_back(makeImplicitEmitterLight(*scene_, o, *m.emission));
     }
     addMirrorImages(*scene_);
     scene_->lightSampler = LightSampler(scene_->lights);

@@ -9,8 +9,8 @@
 
 #include "geometry/input_error.h"
 #include "geometry/instruction_set.h"
-#include "renderer/partial_files.h"
-#include "renderer/version.h"
+#include "renderer/image/partial_files.h"
+#include "renderer/platform/version.h"
 
 namespace isotrace {
 

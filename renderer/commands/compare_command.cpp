@@ -9,11 +9,11 @@
 
 #include "geometry/input_error.h"
 #include "renderer/commands/command.h"
-#include "renderer/flip_metric.h"
-#include "renderer/image_comparison.h"
-#include "renderer/image_files/image_file.h"
-#include "renderer/image_files/openimageio_library.h"
-#include "renderer/image_output.h"
+#include "renderer/image/flip_metric.h"
+#include "renderer/image/image_comparison.h"
+#include "renderer/image/image_file.h"
+#include "renderer/image/openimageio_library.h"
+#include "renderer/image/image_output.h"
 
 namespace isotrace {
 

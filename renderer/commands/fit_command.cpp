@@ -13,7 +13,7 @@
 #include "geometry/description/mpu_description.h"
 #include "geometry/description/variational_description.h"
 #include "renderer/commands/command.h"
-#include "renderer/image_output.h"
+#include "renderer/image/image_output.h"
 
 namespace isotrace {
 

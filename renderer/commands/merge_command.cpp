@@ -2,8 +2,8 @@
 // the whole frame, bit for bit.
 #include "geometry/input_error.h"
 #include "renderer/commands/command.h"
-#include "renderer/film.h"
-#include "renderer/image_output.h"
+#include "renderer/image/film.h"
+#include "renderer/image/image_output.h"
 
 namespace isotrace {
 

@@ -9,7 +9,7 @@
 #include "geometry/meshing/polygonizer.h"
 #include "renderer/commands/command.h"
 #include "renderer/field_hosting.h"
-#include "renderer/image_output.h"
+#include "renderer/image/image_output.h"
 #include "renderer/mesh_export.h"
 #include "renderer/scene_loader.h"
 

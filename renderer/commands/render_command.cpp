@@ -12,11 +12,11 @@
 #include "geometry/instruction_set.h"
 #include "geometry/mesh_file.h"
 #include "renderer/commands/command.h"
-#include "renderer/image_output.h"
+#include "renderer/image/image_output.h"
 #include "renderer/integrator.h"
 #include "renderer/render.h"
 #include "renderer/scene_loader.h"
-#include "renderer/version.h"
+#include "renderer/platform/version.h"
 
 namespace isotrace {
 

@@ -9,7 +9,7 @@
 #include "geometry/particles/surface_particles.h"
 #include "renderer/commands/command.h"
 #include "renderer/field_hosting.h"
-#include "renderer/image_output.h"
+#include "renderer/image/image_output.h"
 #include "renderer/point_export.h"
 #include "renderer/scene_loader.h"
 

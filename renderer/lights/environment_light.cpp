@@ -9,11 +9,11 @@
 #include <numbers>
 #include <vector>
 
-#include "renderer/image_files/image_file.h"
+#include "renderer/image/image_file.h"
 #include "renderer/light.h"
 #include "renderer/scene_builder.h"
-#include "renderer/piecewise_constant.h"
-#include "renderer/sampling.h"
+#include "renderer/sampling/piecewise_constant.h"
+#include "renderer/sampling/sampling.h"
 #include "renderer/scene_values.h"
 
 namespace isotrace {

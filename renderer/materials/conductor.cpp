@@ -10,7 +10,7 @@
 #include "renderer/fresnel.h"
 #include "renderer/material.h"
 #include "renderer/microfacet.h"
-#include "renderer/sampling.h"
+#include "renderer/sampling/sampling.h"
 #include "renderer/scene_values.h"
 
 namespace isotrace {

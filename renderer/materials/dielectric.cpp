@@ -9,7 +9,7 @@
 #include "renderer/fresnel.h"
 #include "renderer/material.h"
 #include "renderer/microfacet.h"
-#include "renderer/sampling.h"
+#include "renderer/sampling/sampling.h"
 
 namespace isotrace {
 

@@ -3,7 +3,7 @@
 #include <numbers>
 
 #include "renderer/material.h"
-#include "renderer/sampling.h"
+#include "renderer/sampling/sampling.h"
 
 namespace isotrace {
 

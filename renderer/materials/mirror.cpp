@@ -1,7 +1,7 @@
 // "mirror": perfect specular reflection about the shading normal, scaled by
 // a reflectance; a single delta lobe.
 #include "renderer/material.h"
-#include "renderer/sampling.h"
+#include "renderer/sampling/sampling.h"
 
 namespace isotrace {
 

@@ -6,8 +6,8 @@
 #include <cmath>
 #include <limits>
 
-#include "renderer/image_files/image_file.h"
-#include "renderer/image_files/openimageio_library.h"
+#include "renderer/image/image_file.h"
+#include "renderer/image/openimageio_library.h"
 #include "renderer/texture.h"
 
 namespace isotrace {

@@ -4,7 +4,7 @@
 
 #include <filesystem>
 
-#include "renderer/image_output.h"
+#include "renderer/image/image_output.h"
 #include "support/run_command.h"
 #include "support/temporary_files.h"
 

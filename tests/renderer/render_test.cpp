@@ -9,7 +9,7 @@
 #include <utility>
 #include <vector>
 
-#include "renderer/image_comparison.h"
+#include "renderer/image/image_comparison.h"
 #include "support/scene_files.h"
 
 using namespace isotrace;

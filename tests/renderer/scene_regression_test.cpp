@@ -10,7 +10,7 @@
 // by at most what an independent sample would, so the difference stays
 // within the render's noise. The test renders the scene a second time with
 // another seed, estimates each pixel's variance from the pair, and scores
-// the difference against it (noiseScore in renderer/image_comparison.h: the
+// the difference against it (noiseScore in renderer/image/image_comparison.h: the
 // mean over 4x4 blocks of the squared block-mean difference over its
 // variance, about 1 for pure noise and less where samples are shared). A
 // limit of 3 leaves room for the variance estimate's own error (scores of
@@ -22,8 +22,8 @@
 #include <filesystem>
 #include <fstream>
 
-#include "renderer/image_comparison.h"
-#include "renderer/image_output.h"
+#include "renderer/image/image_comparison.h"
+#include "renderer/image/image_output.h"
 #include "support/run_command.h"
 #include "support/temporary_files.h"
 

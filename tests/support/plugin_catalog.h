@@ -1,5 +1,6 @@
-// One description of every material and light type, for property tests that
-// must hold for all of them; a test fails when a registered type has none.
+// One description of every material, light, texture and integrator type, for
+// property tests that must hold for all of them; a test fails when a
+// registered type has none.
 #pragma once
 
 #include <string>
@@ -46,6 +47,27 @@ inline std::vector<PluginEntry> lightCatalog() {
         {"quad", {{"type", "quad"}, {"corner", {-0.5, 2, -0.5}}, {"edge1", {1, 0, 0}}, {"edge2", {0, 0, 1}}}},
         {"disk", {{"type", "disk"}, {"center", {0, 2, 0}}, {"normal", {0, -1, 0}}, {"radius", 0.5}}},
         {"environment", {{"type", "environment"}, {"radiance", {0.5, 0.6, 0.7}}}},
+    };
+}
+
+/// Textures; `image` reads "catalog.exr" and `field_ramp` the field "ball",
+/// which the texture tests provide.
+inline std::vector<PluginEntry> textureCatalog() {
+    return {
+        {"checker", {{"type", "checker"}, {"scale", 0.4}, {"colors", {{0.1, 0.2, 0.3}, {0.9, 0.8, 0.7}}}}},
+        {"noise", {{"type", "noise"}, {"scale", 0.3}, {"colors", {0.2, 0.7}}, {"seed", 3}}},
+        {"image", {{"type", "image"}, {"file", "catalog.exr"}, {"scale", 0.5}}},
+        {"field_ramp", {{"type", "field_ramp"}, {"field", "ball"}, {"ramp", {{-2, {0, 0, 0}}, {2, {1, 0.5, 0.25}}}}}},
+        {"field_ramp_curvature",
+         {{"type", "field_ramp"}, {"field", "ball"}, {"quantity", "mean_curvature"}, {"ramp", {{0, 0.1}, {1, 0.9}}}}},
+    };
+}
+
+inline std::vector<PluginEntry> integratorCatalog() {
+    return {
+        {"path", {{"type", "path"}, {"max_depth", 5}}},
+        {"path_roulette_first", {{"type", "path"}, {"max_depth", 5}, {"rr_depth", 1}}},
+        {"whitted", {{"type", "whitted"}}},
     };
 }
 

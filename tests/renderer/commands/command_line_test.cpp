@@ -10,7 +10,7 @@
 #include <cstring>
 #include <fstream>
 
-#include "renderer/image_output.h"
+#include "renderer/image/image_output.h"
 
 #include "support/run_command.h"
 #include "support/temporary_files.h"

@@ -4,7 +4,7 @@
 #include <numbers>
 
 #include "geometry/input_error.h"
-#include "renderer/image_output.h"
+#include "renderer/image/image_output.h"
 #include "renderer/scene_builder.h"
 #include "support/chi_square.h"
 #include "support/floor_scene.h"

@@ -1,4 +1,4 @@
-#include "renderer/mirror_image_light.h"
+#include "renderer/lights/mirror_image_light.h"
 
 #include <gtest/gtest.h>
 

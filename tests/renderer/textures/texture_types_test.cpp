@@ -8,10 +8,14 @@
 
 #include "geometry/description/field_parser.h"
 #include "renderer/texture.h"
+#include "support/plugin_catalog.h"
 #include "support/temporary_files.h"
 
 using namespace isotrace;
+using isotrace::testing::missingFrom;
+using isotrace::testing::PluginEntry;
 using isotrace::testing::TemporaryFolder;
+using isotrace::testing::textureCatalog;
 
 namespace {
 
@@ -112,3 +116,53 @@ TEST(Textures, FieldRampsByValueAndByMeanCurvature) {
     for (const Vec3& p : {Vec3(2, 0, 0), Vec3(0, -2, 0), Vec3(1.2, 1.6, 0)})
         EXPECT_NEAR(byCurvature->evaluate(at(p))[0], 0.5, 1e-4) << p.transpose();
 }
+
+TEST(PluginCatalog, CoversEveryRegisteredTextureType) {
+    EXPECT_EQ(missingFrom(textureCatalog(), textureRegistry().names()), std::vector<std::string>{})
+        << "add the new texture type to tests/support/plugin_catalog.h";
+}
+
+namespace {
+
+class EveryTexture : public ::testing::TestWithParam<PluginEntry> {};
+
+}  // namespace
+
+// Every texture keeps within the bounds it declares (materials validate
+// their parameters by them), gives the same value twice at a point, and
+// varies over a region a few times its scale.
+TEST_P(EveryTexture, StaysWithinItsBoundsRepeatsAndVaries) {
+    TemporaryFolder folder;
+    OIIO::ImageBuf image(OIIO::ImageSpec(3, 2, 3, OIIO::TypeDesc::FLOAT));
+    const float texels[18] = {0.8f, 0.1f, 0.1f, 0.1f, 0.2f, 0.9f, 0.3f, 0.3f, 0.3f,
+                              0.0f, 0.5f, 1.0f, 0.6f, 0.6f, 0.1f, 0.2f, 0.9f, 0.4f};
+    image.set_pixels(OIIO::ROI::All(), OIIO::TypeDesc::FLOAT, texels);
+    ASSERT_TRUE(image.write(folder.file("catalog.exr")));
+    geometry::FieldLibrary fields(geometry::Json{{"ball", {{"type", "sphere"}, {"radius", 2.0}}}}, "/fields", "test");
+    MaterialContext context;
+    context.directory = folder.path();
+    context.fields = &fields;
+    const auto texture = makeTexture(GetParam().description, context);
+
+    ASSERT_TRUE(texture->channels() == 1 || texture->channels() == 3);
+    const RGB lowest = texture->minimum(), highest = texture->maximum();
+    ASSERT_TRUE((lowest <= highest).all());
+    RGB seenLowest = RGB::Constant(1e300), seenHighest = RGB::Constant(-1e300);
+    for (int i = 0; i < 2000; ++i) {
+        const Vec3 p(2.0 * std::sin(0.37 * i), 2.0 * std::cos(0.11 * i), 2.0 * std::sin(0.23 * i + 1));
+        const Vec3 n = Vec3(std::cos(0.7 * i), std::sin(0.3 * i), 0.5).normalized();
+        const RGB v = texture->evaluate(at(p, n));
+        ASSERT_TRUE(v.isFinite().all()) << p.transpose();
+        for (int c = 0; c < 3; ++c) {
+            EXPECT_GE(v[c], lowest[c] - 1e-12) << "channel " << c << " at " << p.transpose();
+            EXPECT_LE(v[c], highest[c] + 1e-12) << "channel " << c << " at " << p.transpose();
+        }
+        EXPECT_TRUE((v == texture->evaluate(at(p, n))).all()) << p.transpose();
+        seenLowest = seenLowest.min(v);
+        seenHighest = seenHighest.max(v);
+    }
+    EXPECT_GT((seenHighest - seenLowest).maxCoeff(), 0.05) << "a texture that does not vary";
+}
+
+INSTANTIATE_TEST_SUITE_P(Catalog, EveryTexture, ::testing::ValuesIn(textureCatalog()),
+                         [](const auto& info) { return info.param.name; });
