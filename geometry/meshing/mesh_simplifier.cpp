@@ -81,15 +81,9 @@ struct Worker {
 };
 
 // A queue is given up after this many refused collapses in a row: costs
-// only rise as it drains, and on the sphere of bench/polygonize_throughput
-// (a curved surface refined to just within the tolerance, where most
-// collapses fail) a quarter of the first round went to candidates after
-// each block's last collapse. Of the 75,832 collapses made without a
-// limit, a limit of 1,024 makes all but 18, this one all but about 400
-// (0.2% more triangles on the sphere and the tangle, none on the cube
-// minus ball) for 10% less simplification time (2026-12-05: sphere
-// adaptive / marching cubes 2.18x against 2.33-2.39x; 64 gives the cube
-// minus ball 7% more triangles).
+// only rise as it drains, and on a curved surface refined to just within
+// the tolerance most late collapses fail. Almost every collapse is still
+// made (bench/polygonize_throughput; bench/RESULTS.md, "Tuned constants").
 constexpr size_t kMaxFailuresInARow = 256;
 
 // Blocks hold about this many vertices (up to 4 x 4 x 4 of them): enough

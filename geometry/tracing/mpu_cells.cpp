@@ -21,27 +21,10 @@ constexpr size_t kLocalsPerPart = 64;
 constexpr int kMaxSplits = 2;
 // A part is split further, down to kMaxModelSplits halvings, until the
 // error of its model of N (mpu_numerator_model.h) is below kModelTolerance
-// of its gradient times its half diagonal. Measured with bench/mpu_render
-// at 640x480, 16 spp, on the kitten and the 37,822-vertex model: 0.07, 0.1
-// and 0.15 render in 4.43, 4.42 and 4.70 s (3.08, 3.23, 3.49) after loads
-// of 2.42, 2.15 and 2.08 s (2.06, 2.04, 1.85), the larger model's peak
-// 535, 509 and 446 MB; looser, too few spans are proven monotone and the
-// exact search takes them, tighter, loading grows for little. Measured
-// again once parts were cut to their slabs (2026-12-05, the larger model,
-// interleaved isotrace render): 0.15, 0.07 and 0.05 render in 1.04x, 0.93x
-// to 0.96x and 0.88x the time of 0.1, but peak at 680 MB and 1 GB against
-// 525 MB, and the whole process takes longer (7.5 s and 9.2 s against
-// 6.9 s at 16 spp): kept at 0.1. Once M3 was taken from the parts'
-// centres (2026-12-05): 0.07 and 0.05 render in 0.97x and 0.96x the time
-// of 0.1, peak at 520 and 619 MB against 462 MB, and the whole process
-// takes 1.03x and 1.10x as long: kept. Under Embree's AVX2 kernels
-// (2026-12-06): 0.965x and 0.974x, the whole process 1.05x and 1.12x.
-// Once the errors were bounded more tightly (Taylor's remainders integrated
-// from the centre, balls whose rim crosses a box bounded directly; same
-// day), a model meets 0.1 over larger boxes, and the frame rendered 1.04x
-// slower at 0.1; at 0.05 and 0.035, 0.955x and 0.97x the time of the
-// previous bounds at 0.1 (9 interleaved rounds), the whole process 1.01x
-// and 1.10x, peaking at 496 and 545 MB against 455 MB: 0.05.
+// of its gradient times its half diagonal. Looser, fewer spans are proven
+// monotone and the exact search takes them; tighter, loading and memory
+// grow for little. bench/mpu_render decides it (bench/RESULTS.md, "Tuned
+// constants").
 constexpr double kModelTolerance = 0.05;
 constexpr int kMaxModelSplits = 4;
 

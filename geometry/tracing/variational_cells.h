@@ -16,10 +16,9 @@ public:
     /// cell. The defaults make most models exact to the default hit
     /// precision (1e-6 of the diagonal) within half their half-diagonal of
     /// their centre, where the tracer takes hits from the model alone
-    /// (patch_tracer.h). Measured on hand.off (bench/variational_render,
-    /// 2026-12-05): 1e-4 and 3 levels load in 0.83 s and render 2.96x its
-    /// triangles (20% of hits without an exact sum); 1.5e-5 and 4 levels
-    /// 1.61 s and 2.28x; 1e-5 and 4 levels 1.91 s and 2.19x.
+    /// (patch_tracer.h). Tighter models cost loading time; looser ones send
+    /// more hits to exact sums. bench/variational_render decides the
+    /// defaults (bench/RESULTS.md, "Tuned constants").
     explicit VariationalCellAccelerator(double relativeTolerance = 1.5e-5, int maxDepth = 4)
         : relativeTolerance_(relativeTolerance), maxDepth_(maxDepth) {}
 
