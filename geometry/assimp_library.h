@@ -1,8 +1,8 @@
 // Polygon model files through Assimp, behind an interface whose
 // implementation lives in a module of its own (isotrace_assimp.so), loaded
-// on first use. Linked in, Assimp (and Draco, which it pulls in) added some
-// 350 page faults, about 8 ms, to the start of every process; a scene
-// without meshes never pays for it now.
+// on first use: linked in, Assimp (and Draco, which it pulls in) would slow
+// the start of every process, and a scene without meshes need not pay for
+// it (bench/RESULTS.md, "Portable build").
 #pragma once
 
 #include <cstdint>

@@ -599,13 +599,13 @@ void MpuField::finish() {
     };
     index(0.0, cellStart_, cellItems_);
     index(nearMargin_, nearStart_, nearItems_);
-    // Lane rows, each quadric about its ball's centre: the single-piece
-    // locals' (indexed by local), then each piece of the sharp locals (from
-    // sharpPieceRows_[local]), which a tracer's list may resolve to one.
+    // Rows for the vectorized sums, each quadric about its ball's centre
+    // (MpuSumRows).
+    auto rows = std::make_shared<MpuSumRows>();
     auto addRow = [&](const Local& l, const MpuQuadric& q) {
         Vec3 g;
         const double c0 = q.evaluate(l.center, &g);
-        double* row = laneRows_.emplace_back().values;
+        double* row = rows->rows.emplace_back().values;
         row[CenterX] = l.center.x();
         row[CenterY] = l.center.y();
         row[CenterZ] = l.center.z();
@@ -621,19 +621,19 @@ void MpuField::finish() {
         row[Ayz] = q.A(1, 2);
         row[Azz] = q.A(2, 2);
     };
-    static_assert(sizeof(LaneRow) == kMpuLaneColumns * sizeof(double));
-    laneRows_.clear();
-    sharpPieceRows_.assign(locals_.size(), 0);
+    static_assert(sizeof(MpuLaneRow) == kMpuLaneColumns * sizeof(double));
     for (const Local& l : locals_) {
         if (l.combination == MpuCombination::Single) addRow(l, pieces_[l.first]);
-        else laneRows_.emplace_back();  // a zero row keeps rows indexed by local
+        else rows->rows.emplace_back();  // a zero row keeps rows indexed by local
     }
+    rows->sharpPieceRows.assign(locals_.size(), 0);
     for (size_t i = 0; i < locals_.size(); ++i) {
         const Local& l = locals_[i];
         if (l.combination == MpuCombination::Single || l.combination == MpuCombination::Interpolant) continue;
-        sharpPieceRows_[i] = uint32_t(laneRows_.size());
+        rows->sharpPieceRows[i] = uint32_t(rows->rows.size());
         for (int k = 0; k < l.count; ++k) addRow(l, pieces_[l.first + k]);
     }
+    sumRows_ = std::move(rows);
     // Each piece's |A| (Frobenius, at least the spectral norm, slightly
     // raised for rounding): its gradient g + 2 A y moves at most 2 |A| |dy|.
     pieceCurvatures_.resize(pieces_.size());
@@ -758,20 +758,25 @@ double MpuField::valueAndGradient(const Vec3& p, Vec3& gradient, std::span<const
     });
 }
 
+// Lists of up to this many locals take their resolved sharp locals in the
+// vectorized sums (the rows are gathered on the stack); longer ones sum them
+// one by one.
+constexpr size_t kRowListCapacity = 256;
+
 template <class OnRows, class VisitRest>
-void MpuField::forLaneRowsOf(MpuLocalList locals, OnRows&& onRows, VisitRest&& visitRest) const {
+void MpuField::forRowsOf(MpuLocalList locals, OnRows&& onRows, VisitRest&& visitRest) const {
     const std::span<const uint32_t> singles = locals.singleLocals(), others = locals.otherLocals();
-    if (locals.indices.size() > kLaneListCapacity) {
+    if (locals.indices.size() > kRowListCapacity) {
         onRows(singles);
         for (size_t k = 0; k < others.size(); ++k) visitRest(locals_[others[k]], locals.pieceOf(k));
         return;
     }
-    uint32_t rows[kLaneListCapacity];
+    uint32_t rows[kRowListCapacity];
     std::copy(singles.begin(), singles.end(), rows);
     size_t count = singles.size();
     for (size_t k = 0; k < others.size(); ++k) {
         const int piece = locals.pieceOf(k);
-        if (piece >= 0) rows[count++] = sharpPieceRows_[others[k]] + uint32_t(piece);
+        if (piece >= 0) rows[count++] = sumRows_->sharpPieceRows[others[k]] + uint32_t(piece);
         else visitRest(locals_[others[k]], -1);
     }
     onRows(std::span<const uint32_t>(rows, count));
@@ -779,8 +784,8 @@ void MpuField::forLaneRowsOf(MpuLocalList locals, OnRows&& onRows, VisitRest&& v
 
 double MpuField::numerator(const Vec3& p, MpuLocalList locals) const {
     double N = kBackgroundWeight * background(p, nullptr);
-    forLaneRowsOf(
-        locals, [&](std::span<const uint32_t> rows) { N += singleLanesNumerator(p, rows); },
+    forRowsOf(
+        locals, [&](std::span<const uint32_t> rows) { N += onePieceNumerator(p, rows); },
         [&](const Local& l, int piece) {
             const double w = mpuWeight((p - l.center).squaredNorm(), l.radius * l.radius);
             if (w > 0.0) N += w * evaluate(l, piece, p, nullptr);
@@ -792,7 +797,7 @@ MpuBlendSums MpuField::blendSums(const Vec3& p, MpuLocalList locals) const {
     // The lanes' share is summed apart and added last.
     MpuBlendSums lanes;
     MpuBlendSums s = sums(p, [&](auto&& visit) {
-        forLaneRowsOf(locals, [&](std::span<const uint32_t> rows) { addSingleLanes(p, rows, lanes); }, visit);
+        forRowsOf(locals, [&](std::span<const uint32_t> rows) { addOnePieceSums(p, rows, lanes); }, visit);
     });
     s.N += lanes.N;
     s.W += lanes.W;

@@ -34,11 +34,12 @@
 
 #include "geometry/bounding_box.h"
 #include "geometry/interval.h"
-#include "geometry/pointsets/mpu_weight_bounds.h"
 #include "geometry/variational/variational_field.h"
 #include "geometry/vector_types.h"
 
 namespace isotrace::geometry {
+
+struct MpuSumRows;
 
 template <int Degree>
 class SegmentPolynomialSum;
@@ -119,7 +120,7 @@ T combineMpuPieces(const MpuLocal& l, const T* v, Larger larger, Smaller smaller
 }
 
 /// A list of locals (indices into MpuField::locals()) whose first `singles`
-/// are single-piece locals, which sums over the list take in vector lanes.
+/// are single-piece locals, which sums over the list take together.
 /// The sharp locals after them may be known to take one piece wherever the
 /// list is asked about (a tracer's part proves it over its box): the first
 /// kResolvedSharp of them carry 2 bits each in `sharpPieces`, 0 where the
@@ -186,7 +187,7 @@ public:
     double numerator(const Vec3& p, MpuLocalList locals) const;
     /// Adds to `sum` the single-piece locals' terms w_i Q_i along the
     /// segment p0 + u D, u in [0, 1], as polynomials of degree 8 on the span
-    /// of u inside each ball, in vector lanes; returns how many balls the
+    /// of u inside each ball; returns how many balls the
     /// segment meets (pointsets/mpu_ray_segment.h sums the rest).
     int addSinglesAlongSegment(const Vec3& p0, const Vec3& D, std::span<const uint32_t> singles,
                                SegmentPolynomialSum<8>& sum) const;
@@ -205,9 +206,9 @@ public:
     Box3 bounds() const { return domain_; }
     /// How far blendSums and numerator over lists with single-piece locals
     /// may stray from the same sums taken one by one, relative to the
-    /// magnitudes summed (1 + |N| + |grad N| + W): both sum in doubles, the
-    /// vector lanes in another order.
-    static constexpr double kLaneRelativeError = 1e-12;
+    /// magnitudes summed (1 + |N| + |grad N| + W): both sum in doubles, in
+    /// another order.
+    static constexpr double kSumRelativeError = 1e-12;
     /// Terms summed at a typical point (evaluation cost): local functions,
     /// or for interpolants their centres.
     size_t termCount() const { return typicalTerms_; }
@@ -256,11 +257,10 @@ private:
     double evaluate(const Local& l, int piece, const Vec3& x, Vec3* gradient) const {
         return piece >= 0 ? pieces_[l.first + piece].evaluate(x, gradient) : evaluate(l, x, gradient);
     }
-    /// The share of the sums of the one-piece terms whose lane rows are
-    /// listed (single-piece locals, and pieces sharp locals are resolved
-    /// to), in vector lanes (pointsets/mpu_lane_kernels.h).
-    void addSingleLanes(const Vec3& p, std::span<const uint32_t> rows, MpuBlendSums& s) const;
-    double singleLanesNumerator(const Vec3& p, std::span<const uint32_t> rows) const;
+    /// The share of the sums of the listed rows of one-piece terms
+    /// (single-piece locals, and pieces sharp locals are resolved to).
+    void addOnePieceSums(const Vec3& p, std::span<const uint32_t> rows, MpuBlendSums& s) const;
+    double onePieceNumerator(const Vec3& p, std::span<const uint32_t> rows) const;
     template <class ForLocals>
     double blend(const Vec3& p, Vec3& gradient, ForLocals&& forLocals) const;
     double background(const Vec3& p, Vec3* gradient) const;
@@ -278,28 +278,15 @@ private:
     double nearMargin_ = 0.0;
     std::vector<uint32_t> nearStart_, nearItems_;
     std::vector<double> pieceCurvatures_;  ///< |A| of each piece
-    /// Each single-piece local's row, its quadric taken about the ball's
-    /// centre: Q = c0 + g . r + r^T A r, r = x - centre (what the vector
-    /// lanes gather), then a row for each piece of each sharp local (from
-    /// sharpPieceRows_). Other locals' rows are zero. A row is two aligned
-    /// cache lines: a local's lanes read those two, where one column per
-    /// value read fourteen lines.
-    struct alignas(64) LaneRow {
-        double values[16] = {};
-    };
-    std::vector<LaneRow> laneRows_;
-    /// Per sharp local, the lane row of its first piece (its others follow).
-    std::vector<uint32_t> sharpPieceRows_;
-    /// Lists of up to this many locals take their resolved sharp locals in
-    /// the lanes (the rows are gathered on the stack); longer ones sum them
-    /// one by one.
-    static constexpr size_t kLaneListCapacity = 256;
-    /// Splits `locals` for the vector lanes: calls onRows(rows) once with
-    /// lane rows (the single-piece locals', and the pieces the sharp locals
-    /// are resolved to where the list fits the stack) and visitRest(local,
-    /// piece) for each local the lanes do not take.
+    /// The one-piece terms in the layout the vectorized sums read (a type
+    /// private to the library); built once, shared by copies.
+    std::shared_ptr<const MpuSumRows> sumRows_;
+    /// Splits `locals` for the vectorized sums: calls onRows(rows) once with
+    /// the rows of one-piece terms (the single-piece locals', and the pieces
+    /// the sharp locals are resolved to where the list is short enough) and
+    /// visitRest(local, piece) for each local summed one by one.
     template <class OnRows, class VisitRest>
-    void forLaneRowsOf(MpuLocalList locals, OnRows&& onRows, VisitRest&& visitRest) const;
+    void forRowsOf(MpuLocalList locals, OnRows&& onRows, VisitRest&& visitRest) const;
     double minimumWeight_ = 0.0;
     double backgroundMargin_ = 0.0;
     size_t typicalTerms_ = 1;
@@ -314,10 +301,9 @@ inline double mpuWeight(double r2, double radius2) {
     return s * s * s;
 }
 
-/// The largest |grad w| over distances in `distance` (mpu_weight_bounds.h).
-inline double mpuWeightSlope(const Interval& distance, double R) {
-    return mpuWeightSlope<double>(distance.lo, distance.hi, R);
-}
+/// The largest |grad w| over distances in `distance` from the centre of a
+/// ball of radius R.
+double mpuWeightSlope(const Interval& distance, double R);
 
 /// An MPU field as a leaf of field programs (shared, not copied).
 struct MpuLeafField {

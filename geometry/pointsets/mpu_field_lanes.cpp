@@ -3,9 +3,14 @@
 #include "geometry/instruction_set.h"
 #include "geometry/pointsets/mpu_field.h"
 #include "geometry/pointsets/mpu_lane_kernels.h"
+#include "geometry/pointsets/mpu_weight_bounds.h"
 #include "geometry/segment_polynomial.h"
 
 namespace isotrace::geometry {
+
+double mpuWeightSlope(const Interval& distance, double R) {
+    return mpuWeightSlope<double>(distance.lo, distance.hi, R);
+}
 
 const MpuLaneKernels& mpuLaneKernels() {
     static const MpuLaneKernels& chosen =
@@ -13,17 +18,17 @@ const MpuLaneKernels& mpuLaneKernels() {
     return chosen;
 }
 
-void MpuField::addSingleLanes(const Vec3& p, std::span<const uint32_t> rows, MpuBlendSums& s) const {
+void MpuField::addOnePieceSums(const Vec3& p, std::span<const uint32_t> rows, MpuBlendSums& s) const {
     MpuLaneSums lanes;
-    mpuLaneKernels().addSums(reinterpret_cast<const double*>(laneRows_.data()), rows.data(), rows.size(), p.data(), lanes);
+    mpuLaneKernels().addSums(reinterpret_cast<const double*>(sumRows_->rows.data()), rows.data(), rows.size(), p.data(), lanes);
     s.W += lanes.W;
     s.N += lanes.N;
     s.gradientW += Vec3(lanes.gradientW[0], lanes.gradientW[1], lanes.gradientW[2]);
     s.gradientN += Vec3(lanes.gradientN[0], lanes.gradientN[1], lanes.gradientN[2]);
 }
 
-double MpuField::singleLanesNumerator(const Vec3& p, std::span<const uint32_t> rows) const {
-    return mpuLaneKernels().numerator(reinterpret_cast<const double*>(laneRows_.data()), rows.data(), rows.size(), p.data());
+double MpuField::onePieceNumerator(const Vec3& p, std::span<const uint32_t> rows) const {
+    return mpuLaneKernels().numerator(reinterpret_cast<const double*>(sumRows_->rows.data()), rows.data(), rows.size(), p.data());
 }
 
 int MpuField::addSinglesAlongSegment(const Vec3& p0, const Vec3& D, std::span<const uint32_t> singles,
@@ -34,7 +39,7 @@ int MpuField::addSinglesAlongSegment(const Vec3& p0, const Vec3& D, std::span<co
         for (int k = 0; k <= 8; ++k) poly[k] = monomials[k];
         static_cast<SegmentPolynomialSum<8>*>(context)->add(poly, enter, leave);
     };
-    const int met = mpuLaneKernels().alongSegment(reinterpret_cast<const double*>(laneRows_.data()), singles.data(), singles.size(), p0.data(),
+    const int met = mpuLaneKernels().alongSegment(reinterpret_cast<const double*>(sumRows_->rows.data()), singles.data(), singles.size(), p0.data(),
                                                   D.data(), whole.data(), partial, &sum);
     sum.add(whole, 0.0, 1.0);
     return met;

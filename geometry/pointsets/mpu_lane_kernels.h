@@ -10,11 +10,25 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <vector>
 
 namespace isotrace::geometry {
 
 enum MpuLaneColumn { CenterX, CenterY, CenterZ, InverseRadius2, C0, Gx, Gy, Gz, Axx, Axy, Axz, Ayy, Ayz, Azz };
 inline constexpr size_t kMpuLaneColumns = 16;  ///< two cache lines a row (14 used)
+
+/// One row.
+struct alignas(64) MpuLaneRow {
+    double values[kMpuLaneColumns] = {};
+};
+
+/// An MPU field's rows (MpuField's sumRows_): each single-piece local's,
+/// indexed by local (zero rows for the others), then each piece of each
+/// sharp local, which a tracer's list may resolve to one.
+struct MpuSumRows {
+    std::vector<MpuLaneRow> rows;
+    std::vector<uint32_t> sharpPieceRows;  ///< per sharp local, the row of its first piece
+};
 
 /// W = sum w_i, N = sum w_i Q_i and their gradients.
 struct MpuLaneSums {

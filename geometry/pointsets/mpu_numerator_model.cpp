@@ -6,6 +6,7 @@
 
 #include "geometry/instruction_set.h"
 #include "geometry/pointsets/mpu_model_kernels.h"
+#include "geometry/pointsets/mpu_weight_bounds.h"
 
 namespace isotrace::geometry {
 

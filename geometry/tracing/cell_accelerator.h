@@ -80,33 +80,31 @@ inline Box3 boxAroundBand(const Box3& box, const PartBand& band) {
     return around;
 }
 
+/// A part's quadratic model of the sum it traces, beyond what its band
+/// holds (the value and gradient at the centre): the Hessian's upper
+/// triangle and proven errors over the part (pointsets/mpu_numerator_model.h
+/// defines them).
+struct PartQuadraticModel {
+    double hessian[6] = {};  ///< xx xy xz yy yz zz
+    double valueError = 0.0, slopeError = 0.0, hessianError = 0.0;
+    double remainderThird = 0.0, valueFloor = 0.0, slopeFloor = 0.0;
+
+    Vec3 times(const Vec3& v) const {
+        return {hessian[0] * v.x() + hessian[1] * v.y() + hessian[2] * v.z(),
+                hessian[1] * v.x() + hessian[3] * v.y() + hessian[4] * v.z(),
+                hessian[2] * v.x() + hessian[4] * v.y() + hessian[5] * v.z()};
+    }
+};
+
 /// What an accelerator keeps of each part inline, after its box and band
-/// in the same cell record (ImplicitSurface's SurfaceCell): a ray that
-/// reaches the band reads it at an address known from the start, not
-/// through the tracer's own memory after the cell. Any trivially copyable
-/// type up to kBytes bytes, stored with store() and read with as<T>().
+/// in the same cell record (ImplicitSurface's SurfaceCell), so that a ray
+/// that reaches the band finds it without a second lookup: the part's run
+/// of its tracer's list of terms, and its model.
 struct PartPayload {
-    static constexpr size_t kBytes = 112;
-    template <typename T>
-    static constexpr bool kFits =
-        std::is_trivially_copyable_v<T> && sizeof(T) <= kBytes && alignof(T) <= alignof(double);
-
-    template <typename T>
-    static PartPayload store(const T& value) {
-        static_assert(kFits<T>);
-        PartPayload p;
-        std::memcpy(p.bytes, &value, sizeof(T));
-        return p;
-    }
-    template <typename T>
-    T as() const {
-        static_assert(kFits<T>);
-        T value;
-        std::memcpy(&value, bytes, sizeof(T));
-        return value;
-    }
-
-    alignas(double) unsigned char bytes[kBytes] = {};
+    uint32_t firstTerm = 0, termCount = 0;
+    uint32_t singleTerms = 0;  ///< terms of one piece, which come first in the run
+    uint32_t pieceCodes = 0;   ///< which piece the terms after them take, where the part proves it
+    PartQuadraticModel model;
 };
 
 struct CellAcceleration;
@@ -122,15 +120,17 @@ public:
     virtual CellTraceResult trace(uint32_t part, const PartBand& band, const PartPayload& payload, const Vec3& origin,
                                   const Vec3& direction, double t0, double t1, const TraceSettings& settings) const = 0;
     /// Takes over the parts of another cell's acceleration by the same
-    /// accelerator, so that one tracer marches many cells: each part a ray
-    /// is offered then reads the one tracer, which stays in cache, not a
-    /// tracer of its cell's own (on a 37,934-vertex MPU model that was a
-    /// cache miss on most parts offered, 2% of the frame). Rewrites
-    /// `other`'s payloads to refer to this tracer's storage and returns the
-    /// index `other`'s first part takes here (its others follow in order);
+    /// accelerator, so that one tracer marches many cells and stays in
+    /// cache. Returns where `other`'s parts and terms go in this tracer:
+    /// its first part's index (its others follow in order) and the offset
+    /// its payloads' runs of terms move by, which the caller applies.
     /// nullopt, the default, when it cannot, and `other` keeps its tracer.
     /// Called while the surface is built, one cell after another.
-    virtual std::optional<uint32_t> absorb(CellAcceleration& other) { return std::nullopt; }
+    struct Absorbed {
+        uint32_t firstPart = 0;
+        uint32_t termOffset = 0;
+    };
+    virtual std::optional<Absorbed> absorb(const CellAcceleration& other) { return std::nullopt; }
 };
 
 struct CellAcceleration {

@@ -221,18 +221,21 @@ ImplicitSurface::ImplicitSurface(FieldProgram field, const ImplicitSurfaceOption
         // The previous cell's tracer takes this cell's parts over where it
         // can (CellTracer::absorb): cells are offered in order, so the
         // cells of one field end up sharing one tracer.
-        const std::optional<uint32_t> absorbed =
+        const std::optional<CellTracer::Absorbed> absorbed =
             tracers_.empty() ? std::nullopt : tracers_.back()->absorb(*b.acceleration);
         if (!absorbed) tracers_.push_back(std::move(b.acceleration->tracer));
         const auto tracer = static_cast<int32_t>(tracers_.size() - 1);
-        const uint32_t firstPart = absorbed.value_or(0);
+        const uint32_t firstPart = absorbed ? absorbed->firstPart : 0;
         for (uint32_t part = 0; part < b.acceleration->parts.size(); ++part) {
             SurfaceCell cell = b.cell;
             cell.box = b.acceleration->parts[part];
             cell.tracer = tracer;
             cell.part = firstPart + part;
             if (!b.acceleration->bands.empty()) cell.band = b.acceleration->bands[part];
-            if (!b.acceleration->payloads.empty()) cell.payload = b.acceleration->payloads[part];
+            if (!b.acceleration->payloads.empty()) {
+                cell.payload = b.acceleration->payloads[part];
+                if (absorbed) cell.payload.firstTerm += absorbed->termOffset;
+            }
             cells_.push_back(cell);
         }
         b.acceleration.reset();  // its parts, bands and payloads are the cells' now

@@ -26,11 +26,9 @@ struct ImplicitSurfaceOptions {
     /// Cells where the field is a distance bound (one primitive; two
     /// combined one level deeper) stop splitting at this depth: sphere
     /// tracing steps by their value already, and analytic tracers need no
-    /// small cells, so deeper ones only cost start-up. The CSG preview scene
-    /// (640x480, Whitted) loaded in 0.10 s at depth 6, 0.02 s at 3 and
-    /// 0.006 s at 1, and rendered no slower (0.04 s against 0.05 s; the
-    /// showcase at 16 spp 1.16 s against 1.23 s), the same image to
-    /// rounding. Code that scans cells for surface wants them deeper.
+    /// small cells, so deeper ones only cost start-up (bench/RESULTS.md,
+    /// "Tuned constants"). Code that scans cells for surface wants them
+    /// deeper.
     int distanceCellDepth = 1;
     size_t cellBudget = 16384;   ///< stop refining before a level would exceed this
     double relativeEpsilon = 1e-6;  ///< hit precision, relative to the bounds' diagonal

@@ -28,45 +28,28 @@ constexpr int kMaxSplits = 2;
 constexpr double kModelTolerance = 0.05;
 constexpr int kMaxModelSplits = 4;
 
-// What a part's model adds to its centre, value and gradient (the model's
-// own): the Hessian's upper triangle (xx xy xz yy yz zz) and the errors.
-// Parts are many (up to a million for a 37k-vertex model): nothing is
-// stored twice.
-struct PartModel {
-    double hessian[6] = {};
-    double valueError = 0.0, slopeError = 0.0, hessianError = 0.0;
-    double remainderThird = 0.0, valueFloor = 0.0, slopeFloor = 0.0;  ///< see MpuNumeratorModel
-
-    PartModel() = default;
-    explicit PartModel(const MpuNumeratorModel& m)
-        : hessian{m.hessian(0, 0), m.hessian(0, 1), m.hessian(0, 2), m.hessian(1, 1), m.hessian(1, 2), m.hessian(2, 2)},
-          valueError(m.valueError), slopeError(m.slopeError), hessianError(m.hessianError),
-          remainderThird(m.remainderThird), valueFloor(m.valueFloor), slopeFloor(m.slopeFloor) {}
-    Vec3 times(const Vec3& v) const {
-        return {hessian[0] * v.x() + hessian[1] * v.y() + hessian[2] * v.z(),
-                hessian[1] * v.x() + hessian[3] * v.y() + hessian[4] * v.z(),
-                hessian[2] * v.x() + hessian[4] * v.y() + hessian[5] * v.z()};
-    }
-};
-
-// A part: its locals and the rest of its model of N, fitted over the box it
-// was carved as (about that box's centre); its box, shrunk to where the
-// model may hold zero, is ImplicitSurface's (and the tracer's leafBoxes_
-// where the leaf's frame is not the world's). The model's value and
-// gradient at the centre are the part's PartBand (kept by ImplicitSurface
-// beside the part's box): the surface lies where |L| <= band, L the model's
-// tangent plane at the centre and band its error plus the reach of its
-// curvature, a slab a ray crosses in closed form, so rays that miss it read
-// nothing here. The part itself is the cell's PartPayload, in the cache
-// lines after its box and band: kept in a vector of the tracer's, it was a
-// second dependent cache miss for every ray that reached a band.
-struct MpuPart {
-    uint32_t first = 0, count = 0;
-    uint32_t singles = 0;  ///< the list's single-piece locals, which come first
-    /// The pieces its box proves sharp locals take (MpuLocalList::sharpPieces).
-    uint32_t sharpPieces = 0;
-    PartModel model;
-};
+// A part is its cell's PartPayload, in the cache lines after its box and
+// band (kept in a vector of the tracer's, it was a second dependent cache
+// miss for every ray that reached a band): its run of the tracer's locals
+// and the rest of its model of N, fitted over the box it was carved as
+// (about that box's centre). The model's value and gradient at the centre
+// are the part's PartBand: the surface lies where |L| <= band, L the
+// model's tangent plane at the centre and band its error plus the reach of
+// its curvature, a slab a ray crosses in closed form, so rays that miss it
+// read nothing more.
+PartQuadraticModel partModelOf(const MpuNumeratorModel& m) {
+    PartQuadraticModel q;
+    const double hessian[6] = {m.hessian(0, 0), m.hessian(0, 1), m.hessian(0, 2),
+                               m.hessian(1, 1), m.hessian(1, 2), m.hessian(2, 2)};
+    std::copy(std::begin(hessian), std::end(hessian), q.hessian);
+    q.valueError = m.valueError;
+    q.slopeError = m.slopeError;
+    q.hessianError = m.hessianError;
+    q.remainderThird = m.remainderThird;
+    q.valueFloor = m.valueFloor;
+    q.slopeFloor = m.slopeFloor;
+    return q;
+}
 
 // The box Embree is offered for a part: within `partBox` (inside the box
 // `b` the model was fitted over), around the slab of each octant of b's own
@@ -108,23 +91,16 @@ public:
 
     // Another cell's parts of the same field, placed alike: their lists
     // join this tracer's, each part's `first` moved past the lists before.
-    std::optional<uint32_t> absorb(CellAcceleration& other) override {
+    std::optional<Absorbed> absorb(const CellAcceleration& other) override {
         auto* o = dynamic_cast<MpuCellTracer*>(other.tracer.get());
         if (!o || o->field_ != field_ || o->placement_ != placement_) return std::nullopt;
         constexpr size_t kLimit = std::numeric_limits<uint32_t>::max();
         if (locals_.size() + o->locals_.size() > kLimit || partCount_ + o->partCount_ > kLimit) return std::nullopt;
-        const auto offset = uint32_t(locals_.size());
-        for (PartPayload& payload : other.payloads) {
-            MpuPart part = payload.as<MpuPart>();
-            part.first += offset;
-            payload = PartPayload::store(part);
-        }
+        const Absorbed absorbed{uint32_t(partCount_), uint32_t(locals_.size())};
         locals_.insert(locals_.end(), o->locals_.begin(), o->locals_.end());
         leafBoxes_.insert(leafBoxes_.end(), o->leafBoxes_.begin(), o->leafBoxes_.end());
-        const auto firstPart = uint32_t(partCount_);
         partCount_ += o->partCount_;
-        other.tracer.reset();
-        return firstPart;
+        return absorbed;
     }
 
     CellTraceResult trace(uint32_t index, const PartBand& band, const PartPayload& payload, const Vec3& origin,
@@ -140,12 +116,11 @@ public:
         CellTraceResult r;
         r.steps = 1;
         if (!(t1 >= t0)) return r;
-        const MpuPart part = payload.as<MpuPart>();
-        const MpuLocalList locals(std::span<const uint32_t>(locals_.data() + part.first, part.count), part.singles,
-                                  part.sharpPieces);
+        const MpuLocalList locals(std::span<const uint32_t>(locals_.data() + payload.firstTerm, payload.termCount),
+                                  payload.singleTerms, payload.pieceCodes);
         const double tolerance = settings.epsilon / direction.norm();
         Vec3 gradient;
-        const bool hit = modelledRoot(band, part.model, locals, o, d, t0, t1, tolerance, settings.anyHit, r, gradient);
+        const bool hit = modelledRoot(band, payload.model, locals, o, d, t0, t1, tolerance, settings.anyHit, r, gradient);
         if (!hit) return r;
         r.hit = true;
         r.gradientKnown = true;
@@ -177,7 +152,7 @@ private:
     // With anyHit (an occlusion query), a root proven between two signs is
     // enough: it is reported halfway, with the model's gradient, and N is
     // not evaluated to settle it.
-    bool modelledRoot(const PartBand& plane, const PartModel& m, MpuLocalList locals, const Vec3& o,
+    bool modelledRoot(const PartBand& plane, const PartQuadraticModel& m, MpuLocalList locals, const Vec3& o,
                       const Vec3& d, double t0, double t1, double tolerance, bool anyHit, CellTraceResult& r,
                       Vec3& gradient) const {
         // Most segments a ray meets keep T beyond the part's whole error
@@ -205,7 +180,7 @@ private:
     // The part's model T along the ray: c0 + c1 t + c2 t^2.
     struct ModelAlongRay {
         double c0, c1, c2;
-        ModelAlongRay(const PartBand& plane, const PartModel& m, const Vec3& o, const Vec3& d) {
+        ModelAlongRay(const PartBand& plane, const PartQuadraticModel& m, const Vec3& o, const Vec3& d) {
             const Vec3 y0 = o - plane.point, hd = m.times(d);
             c0 = plane.value + plane.slope.dot(y0) + 0.5 * y0.dot(m.times(y0));
             c1 = plane.slope.dot(d) + y0.dot(hd);
@@ -221,7 +196,7 @@ private:
     struct NearErrors {
         double value, slope;  ///< the slope's per unit of length
     };
-    static NearErrors nearErrors(const PartBand& plane, const PartModel& m, const Vec3& o, const Vec3& d, double a,
+    static NearErrors nearErrors(const PartBand& plane, const PartQuadraticModel& m, const Vec3& o, const Vec3& d, double a,
                                  double b) {
         if (!std::isfinite(m.hessianError)) return {m.valueError, m.slopeError};
         const double reach = std::max((o + a * d - plane.point).norm(), (o + b * d - plane.point).norm());
@@ -235,7 +210,7 @@ private:
     // leave undecided is looked at again with the errors of its own
     // distance from the centre (Taylor's remainder grows as its cube), if
     // allowed and clearly smaller, before the exact search takes it.
-    bool spansRoot(const PartBand& plane, const PartModel& m, MpuLocalList locals, const Vec3& o,
+    bool spansRoot(const PartBand& plane, const PartQuadraticModel& m, MpuLocalList locals, const Vec3& o,
                    const Vec3& d, double t0, double t1, double e, double slopeErrorPerUnit, int outerLeft,
                    int outerRight, bool mayNarrow, double tolerance, bool anyHit, CellTraceResult& r,
                    Vec3& gradient) const {
@@ -466,7 +441,7 @@ std::optional<CellAcceleration> MpuCellAccelerator::accelerate(const FieldProgra
     // Beyond the domain the background term is a distance, not a polynomial.
     if (!field.bounds().contains(leafBox)) return std::nullopt;
 
-    std::vector<PartPayload> parts;  // each an MpuPart
+    std::vector<PartPayload> parts;
     std::vector<Box3> boxes;      // parallel to parts, in the leaf's frame
     std::vector<PartBand> bands;  // parallel to parts
     std::vector<uint32_t> locals, touching;
@@ -492,7 +467,6 @@ std::optional<CellAcceleration> MpuCellAccelerator::accelerate(const FieldProgra
             const Interval t = quadraticRange(value, slope, 0.5 * parent->hessian, half);
             if (t.lo > parent->valueError || t.hi < -parent->valueError) return;
         }
-        MpuPart part;
         // T's reach from its tangent plane over the box, and N's.
         auto bandOf = [&](const MpuNumeratorModel& m) {
             return m.valueError + quadraticRange(0.0, Vec3::Zero(), 0.5 * m.hessian, half).magnitude();
@@ -531,15 +505,16 @@ std::optional<CellAcceleration> MpuCellAccelerator::accelerate(const FieldProgra
         if (around.isEmpty()) return;
         boxes.push_back(around);
         bands.push_back(band);
-        part.model = PartModel(m);
-        part.first = first;
-        part.count = count;
-        part.singles = uint32_t(columns.singleCount());
+        PartPayload part;
+        part.model = partModelOf(m);
+        part.firstTerm = first;
+        part.termCount = count;
+        part.singleTerms = uint32_t(columns.singleCount());
         // Sharp locals whose crease stays off the box are evaluated as their
         // one piece there.
-        part.sharpPieces = mpuResolvedSharpPieces(
-            field, m, MpuLocalList(std::span<const uint32_t>(locals.data() + first, count), part.singles));
-        parts.push_back(PartPayload::store(part));
+        part.pieceCodes = mpuResolvedSharpPieces(
+            field, m, MpuLocalList(std::span<const uint32_t>(locals.data() + first, count), part.singleTerms));
+        parts.push_back(part);
     };
     auto carve = [&](auto&& self, const Box3& b, int splits) -> void {
         field.localsTouching(b, touching);

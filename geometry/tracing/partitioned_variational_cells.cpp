@@ -8,6 +8,7 @@
 
 #include "geometry/bracketed_root.h"
 #include "geometry/pointsets/mpu_field.h"
+#include "geometry/pointsets/mpu_weight_bounds.h"
 #include "geometry/variational/variational_patch.h"
 
 namespace isotrace::geometry {

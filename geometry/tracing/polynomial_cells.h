@@ -24,9 +24,8 @@ public:
     std::optional<CellAcceleration> accelerate(const FieldProgram& cellProgram, const Box3& cellBox,
                                                double surfaceDiagonal) const override;
     /// A bare polynomial is: a ray's root search over its whole segment costs
-    /// less than the Embree calls of the octree's cells it crosses (measured
-    /// on the tangle and the heart, 320x240, 16 spp: 30% faster than with
-    /// the 3,648 cells of depth 4).
+    /// less than the Embree calls of the octree's cells it crosses
+    /// (bench/RESULTS.md, "Tuned constants").
     bool marchesWholeField(const FieldProgram& field, const Box3& box) const override;
 
 private:

@@ -15,7 +15,7 @@
 namespace isotrace::geometry {
 
 struct VariationalField {
-    PointsByAxis centers;                ///< value-constraint positions c_i (by axis: the sums run in vector lanes)
+    PointsByAxis centers;                ///< value-constraint positions c_i (by axis, for vectorized sums)
     std::vector<double> weights;         ///< w_i
     std::vector<Vec3> gradientCenters;   ///< gradient-constraint positions c_k
     std::vector<Vec3> gradientWeights;   ///< b_k

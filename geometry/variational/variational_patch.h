@@ -123,9 +123,8 @@ private:
 /// the gradient bound low).
 constexpr double kNearFactor = 1.5;
 /// The same for Hermite terms, whose remainder falls only as 1 / (r - s)^3:
-/// at 1.5 the nearest far ones dominate the error (measured on the hand's
-/// Hermite fit: 2 renders 18% faster than 1.5 and loads as fast; 2.5 and
-/// 3.5 gain under 5% more for 10-30% longer loading).
+/// at 1.5 the nearest far ones dominate the error (bench/variational_render
+/// on the hand's Hermite fit decides it; bench/RESULTS.md).
 constexpr double kHermiteNearFactor = 2.0;
 
 /// The model of `field` over `box` (none for an empty or infinite box).

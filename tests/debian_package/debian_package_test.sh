@@ -24,6 +24,15 @@ if grep -q '_kernels\.h$' <<< "$contents"; then echo "debian_package_test: priva
 depends=$(dpkg-deb -f "$deb" Depends)
 grep -q libembree <<< "$depends" || { echo "debian_package_test: Depends lacks Embree: $depends" >&2; exit 1; }
 dpkg -x "$deb" "$work/root"
+# The installed headers are the API: each includes only installed headers,
+# and none speaks of the private vector layouts.
+include_root="$work/root/usr/include/isotrace"
+while IFS= read -r header; do
+  while IFS= read -r included; do
+    [ -f "$include_root/$included" ] || { echo "debian_package_test: ${header#$include_root/} includes $included, which is not installed" >&2; exit 1; }
+  done < <(sed -n 's/^#include "\(geometry\/[^"]*\)".*/\1/p' "$header")
+done < <(find "$include_root" -name '*.h')
+if grep -rlE '\b[Ll]anes?\b|Lane[A-Z]' "$include_root"; then echo "debian_package_test: installed headers above speak of vector lanes" >&2; exit 1; fi
 mkdir "$work/elsewhere"
 cd "$work/elsewhere"
 "$work/root/usr/bin/isotrace" render "$source/scenes/showcase.json" --width 64 --height 48 --spp 4 --quiet -o showcase.exr

@@ -241,7 +241,7 @@ TEST(MpuField, SumsInVectorLanesAreThePlainSums) {
         mixed += singles > 0 && singles < list.size();
         const MpuBlendSums plain = f.blendSums(p, {list}), lanes = f.blendSums(p, {list, singles});
         const double scale =
-            MpuField::kLaneRelativeError * (1.0 + std::abs(plain.N) + plain.gradientN.norm() + plain.W);
+            MpuField::kSumRelativeError * (1.0 + std::abs(plain.N) + plain.gradientN.norm() + plain.W);
         ASSERT_NEAR(lanes.N, plain.N, scale) << "trial " << trial << ", " << singles << " of " << list.size();
         ASSERT_NEAR(lanes.W, plain.W, scale) << "trial " << trial;
         ASSERT_LE((lanes.gradientN - plain.gradientN).norm(), scale) << "trial " << trial;

@@ -219,7 +219,7 @@ TEST(MpuNumeratorModel, SharpLocalsResolvedToOnePieceSumAsBefore) {
                 const Vec3 x = c + Vec3(u(rng), u(rng), u(rng)).cwiseProduct(half);
                 const MpuBlendSums a = field.blendSums(x, choosing), b = field.blendSums(x, taking);
                 // The resolved pieces join the lanes (summed in another order).
-                const double scale = MpuField::kLaneRelativeError * (1.0 + std::abs(a.N) + a.gradientN.norm());
+                const double scale = MpuField::kSumRelativeError * (1.0 + std::abs(a.N) + a.gradientN.norm());
                 ASSERT_NEAR(b.N, a.N, scale) << "box " << i << " of size " << size;
                 ASSERT_LE((b.gradientN - a.gradientN).norm(), scale) << "box " << i << " of size " << size;
                 ASSERT_NEAR(field.numerator(x, taking), a.N, scale) << "box " << i << " of size " << size;
