@@ -5,7 +5,10 @@
 // pushed into the leaves at compile time, so operators never see them.
 #pragma once
 
+#include <concepts>
 #include <cstdint>
+#include <memory>
+#include <type_traits>
 #include <variant>
 #include <vector>
 
@@ -14,6 +17,7 @@
 #include "geometry/fields/box.h"
 #include "geometry/fields/convolution.h"
 #include "geometry/fields/ellipsoid.h"
+#include "geometry/fields/octahedron.h"
 #include "geometry/fields/plane.h"
 #include "geometry/fields/polyline_distance.h"
 #include "geometry/fields/polynomial.h"
@@ -21,13 +25,57 @@
 #include "geometry/fields/sphere.h"
 #include "geometry/fields/torus.h"
 #include "geometry/pointsets/mpu_field.h"
-#include "geometry/variational/variational_leaf.h"
+#include "geometry/variational/variational_field.h"
 
 namespace isotrace::geometry {
 
-using LeafShape = std::variant<SphereField, BoxField, TorusField, PlaneField, EllipsoidField, RevolvedProfileField,
+/// What a field kind must provide to be a leaf of field programs, in its own
+/// frame (LeafPlacement maps the world to it):
+/// - value(p) and valueAndGradient(p, gradient): the field, negative inside;
+/// - range(box): an interval proven to hold every value over the box;
+/// - lipschitz(box): a proven bound on the gradient's length over the box;
+/// - bounds(): a box outside which the field is positive.
+/// A kind may also provide termCount() (its cost per evaluation, default 1),
+/// valueAndSafeDistance(p, distance) (a radius free of zeros, tighter than
+/// |f| / lipschitz), and prunedTo(box) (a copy keeping what reaches the box);
+/// field programs use them where present. Adding a kind: README.md, "Adding
+/// a field kind".
+template <class T>
+concept LeafField = requires(const T& f, const Vec3& p, Vec3& gradient, const Box3& box) {
+    { f.value(p) } -> std::convertible_to<double>;
+    { f.valueAndGradient(p, gradient) } -> std::convertible_to<double>;
+    { f.range(box) } -> std::convertible_to<Interval>;
+    { f.lipschitz(box) } -> std::convertible_to<double>;
+    { f.bounds() } -> std::convertible_to<Box3>;
+};
+
+/// A fitted field (variational or MPU) as a leaf: shared, not copied, since
+/// every octree cell's pruned program holds one.
+template <class Field>
+struct SharedLeafField {
+    std::shared_ptr<const Field> field;
+
+    double value(const Vec3& p) const { return field->value(p); }
+    double valueAndGradient(const Vec3& p, Vec3& gradient) const { return field->valueAndGradient(p, gradient); }
+    double valueAndSafeDistance(const Vec3& p, double& safe) const { return field->valueAndSafeDistance(p, safe); }
+    Interval range(const Box3& box) const { return field->range(box); }
+    double lipschitz(const Box3& box) const { return field->lipschitz(box); }
+    Box3 bounds() const { return field->bounds(); }
+    size_t termCount() const { return field->termCount(); }
+};
+using VariationalLeafField = SharedLeafField<VariationalField>;
+using MpuLeafField = SharedLeafField<MpuField>;
+
+using LeafShape = std::variant<SphereField, BoxField, TorusField, PlaneField, EllipsoidField, OctahedronField,
+                               RevolvedProfileField,
                                PolylineDistanceField, PolynomialField, BlobbyField, ConvolutionField,
                                VariationalLeafField, MpuLeafField>;
+
+template <class Variant>
+struct AllLeafFields;
+template <class... Kinds>
+struct AllLeafFields<std::variant<Kinds...>> : std::bool_constant<(LeafField<Kinds> && ...)> {};
+static_assert(AllLeafFields<LeafShape>::value, "every kind in LeafShape must satisfy LeafField");
 
 /// Where a leaf sits: its shape is evaluated at leafFromWorld(p) and its value
 /// multiplied by valueScale (the smallest singular value of the accumulated

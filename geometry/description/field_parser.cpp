@@ -232,6 +232,10 @@ uint32_t makeEllipsoid(Compiler& c, JsonObjectReader& r, const LeafPlacement& p)
     return c.program.addLeaf(EllipsoidField{r.vec3("center", Vec3::Zero()), radii}, p);
 }
 
+uint32_t makeOctahedron(Compiler& c, JsonObjectReader& r, const LeafPlacement& p) {
+    return c.program.addLeaf(OctahedronField{r.vec3("center", Vec3::Zero()), r.positiveNumber("size")}, p);
+}
+
 // ---- algebraic surfaces ---------------------------------------------------
 
 Box3 requiredDomain(Compiler& c, JsonObjectReader& r, const char* what) {
@@ -460,6 +464,7 @@ const std::map<std::string, FieldFactory>& registry() {
         {"capsule", makeCapsule},
         {"plane", makePlane},
         {"ellipsoid", makeEllipsoid},
+        {"octahedron", makeOctahedron},
         {"quadric", makeQuadric},
         {"polynomial", makePolynomial},
         {"blobby", makeBlobby},

@@ -119,6 +119,10 @@ T combineMpuPieces(const MpuLocal& l, const T* v, Larger larger, Smaller smaller
     return v[0];
 }
 
+/// The value (and gradient, where asked) of a local made of quadric pieces
+/// (any combination but Interpolant), its pieces at `pieces`.
+double evaluateMpuPieces(const MpuLocal& l, const MpuQuadric* pieces, const Vec3& x, Vec3* gradient);
+
 /// A list of locals (indices into MpuField::locals()) whose first `singles`
 /// are single-piece locals, which sums over the list take together.
 /// The sharp locals after them may be known to take one piece wherever the
@@ -304,18 +308,5 @@ inline double mpuWeight(double r2, double radius2) {
 /// The largest |grad w| over distances in `distance` from the centre of a
 /// ball of radius R.
 double mpuWeightSlope(const Interval& distance, double R);
-
-/// An MPU field as a leaf of field programs (shared, not copied).
-struct MpuLeafField {
-    std::shared_ptr<const MpuField> field;
-
-    double value(const Vec3& p) const { return field->value(p); }
-    double valueAndGradient(const Vec3& p, Vec3& gradient) const { return field->valueAndGradient(p, gradient); }
-    double valueAndSafeDistance(const Vec3& p, double& safe) const { return field->valueAndSafeDistance(p, safe); }
-    Interval range(const Box3& box) const { return field->range(box); }
-    double lipschitz(const Box3& box) const { return field->lipschitz(box); }
-    Box3 bounds() const { return field->bounds(); }
-    size_t termCount() const { return field->termCount(); }
-};
 
 }  // namespace isotrace::geometry

@@ -1,7 +1,6 @@
 #include "geometry/tracing/variational_cells.h"
 
 #include "geometry/variational/patch_tracer.h"
-#include "geometry/variational/variational_leaf.h"
 
 namespace isotrace::geometry {
 

@@ -341,22 +341,19 @@ void accumulateHermiteMonomials(const HermiteScratch& q, std::array<double, Vari
     hermiteDerivatives(q, out, degreeMonomials<4>());
 }
 
-}  // namespace
+// Near terms enter the polynomial up to second order only (their third
+// derivative jumps at their centre) and are corrected exactly when the
+// model is evaluated; far terms enter it to fourth order. Sums over the r^3
+// terms about x0 for a box of half-diagonal s; the near terms go to `patch`.
+struct RadialTermSums {
+    size_t count = 0;
+    double r3 = 0.0, r = 0.0;  ///< sum w r^3 and sum w r
+    TermSums moments;
+    double remainder = 0.0, innerRemainder = 0.0, magnitude = 0.0;  ///< for the error bounds
+};
 
-std::optional<VariationalPatch> buildVariationalPatch(const VariationalField& field, const Box3& box) {
-    if (box.isEmpty() || !box.isFinite()) return std::nullopt;
-    const MonomialTable& table = monomials();
-    VariationalPatch patch;
-    patch.box = box;
-    const Vec3 x0 = box.center();
-    patch.expansionPoint = x0;
-    const double s = box.halfDiagonal();
+RadialTermSums sumRadialTerms(const VariationalField& field, const Vec3& x0, double s, VariationalPatch& patch) {
     const double nearRadius = kNearFactor * s;
-    const double hermiteNearRadius = kHermiteNearFactor * s;
-
-    // Near terms enter the polynomial up to second order only (their third
-    // derivative jumps at their centre) and are corrected exactly when the
-    // model is evaluated; far terms enter it to fourth order.
     thread_local Scratch scratch;
     const size_t n = field.centers.size();
     scratch.resize(n);
@@ -364,6 +361,8 @@ std::optional<VariationalPatch> buildVariationalPatch(const VariationalField& fi
     const double* w = field.weights.data();
     // Sums that need no moment are taken in the same pass; one reciprocal
     // serves every power of 1 / r.
+    RadialTermSums sums;
+    sums.count = n;
     double remainderSum = 0.0, innerRemainderSum = 0.0, magnitudeSum = 0.0;
     {
         Scratch& q = scratch;
@@ -417,12 +416,31 @@ std::optional<VariationalPatch> buildVariationalPatch(const VariationalField& fi
                 patch.near.push_back({field.centers[j], w[j], r, r > 0 ? 1.0 / r : 0.0});
             }
     }
-    // Hermite terms, by the same rule.
+    sums.r3 = r3Sum;
+    sums.r = rSum;
+    sums.moments.byInvR[0] = farInvRSum;
+    accumulateMonomials(scratch, sums.moments);
+    sums.remainder = remainderSum;
+    sums.innerRemainder = innerRemainderSum;
+    sums.magnitude = magnitudeSum;
+    return sums;
+}
+
+// The same for the Hermite (gradient) terms, whose near ones are those
+// within kHermiteNearFactor half-diagonals.
+struct HermiteTermSums {
+    size_t count = 0;
+    std::array<double, VariationalPatch::kMonomials> monomials{};  ///< their Taylor derivatives by monomial
+    double remainder = 0.0, innerRemainder = 0.0, magnitude = 0.0;
+};
+
+HermiteTermSums sumHermiteTerms(const VariationalField& field, const Vec3& x0, double s, VariationalPatch& patch) {
+    const double hermiteNearRadius = kHermiteNearFactor * s;
     thread_local HermiteScratch hermite;
     const size_t nh = field.gradientCenters.size();
     hermite.resize(nh);
-    double hermiteRemainderSum = 0.0, hermiteInnerRemainderSum = 0.0, hermiteMagnitudeSum = 0.0;
-    std::array<double, VariationalPatch::kMonomials> hermiteSums{};
+    HermiteTermSums sums;
+    sums.count = nh;
     if (nh > 0) {
         HermiteScratch& q = hermite;
         const double* hc = field.gradientCenters[0].data();
@@ -454,18 +472,24 @@ std::optional<VariationalPatch> buildVariationalPatch(const VariationalField& fi
             patch.nearHermite.push_back({field.gradientCenters[j], b, 3.0 * r * sv,
                                          r > 0 ? Vec3(3.0 * (sv / r * d + r * b)) : Vec3::Zero()});
         }
-        accumulateHermiteMonomials(q, hermiteSums);
-        hermiteRemainderSum = plainSum(q.remainder);
-        hermiteInnerRemainderSum = plainSum(q.innerRemainder);
-        hermiteMagnitudeSum = plainSum(q.magnitude);
+        accumulateHermiteMonomials(q, sums.monomials);
+        sums.remainder = plainSum(q.remainder);
+        sums.innerRemainder = plainSum(q.innerRemainder);
+        sums.magnitude = plainSum(q.magnitude);
     }
 
-    constexpr int M = VariationalPatch::kMonomials;
-    TermSums sums;
-    sums.byInvR[0] = farInvRSum;
-    accumulateMonomials(scratch, sums);
-    const auto &byR = sums.byR, &byInvR = sums.byInvR, &byInvR3 = sums.byInvR3, &byInvR5 = sums.byInvR5;
+    return sums;
+}
 
+// The Taylor coefficients at x0 from the sums.
+void setCoefficients(const VariationalField& field, const Vec3& x0, const RadialTermSums& radial,
+                     const HermiteTermSums& hermite, VariationalPatch& patch) {
+    constexpr int M = VariationalPatch::kMonomials;
+    const MonomialTable& table = monomials();
+    const double r3Sum = radial.r3, rSum = radial.r;
+    const auto &byR = radial.moments.byR, &byInvR = radial.moments.byInvR, &byInvR3 = radial.moments.byInvR3,
+               &byInvR5 = radial.moments.byInvR5;
+    const auto& hermiteSums = hermite.monomials;
     // Partial derivatives of sum w |x - c|^3 at x0 from those sums:
     //   d_i      = 3 w r d_i
     //   d_ij     = 3 (w r delta_ij + w d_i d_j / r)
@@ -492,7 +516,13 @@ std::optional<VariationalPatch> buildVariationalPatch(const VariationalField& fi
         }
         patch.coefficients[n] = (derivative + hermiteSums[n]) * table.inverseFactorial[n];
     }
+}
 
+// Bounds on the model's errors over its box of half-diagonal s, from the
+// far terms' fifth derivatives (Taylor's remainder) and the coefficients'
+// rounding.
+void setTaylorErrors(double s, const RadialTermSums& radial, const HermiteTermSums& hermite, VariationalPatch& patch) {
+    constexpr int M = VariationalPatch::kMonomials;
     // Rounding: every coefficient is a sum of terms whose sizes the
     // magnitude sum majorises (with room to spare for the Taylor weights),
     // each term rounded in at most M operations and then in the additions
@@ -500,20 +530,29 @@ std::optional<VariationalPatch> buildVariationalPatch(const VariationalField& fi
     // the lanes' total.
     const double unitRoundoff = std::numeric_limits<double>::epsilon() / 2;
     auto additions = [](size_t terms) { return terms / kLanes + 2 * kLanes; };
-    const double rounding = 16.0 * double(additions(n) + additions(nh) + M) * unitRoundoff *
-                            (magnitudeSum + hermiteMagnitudeSum);
+    const double rounding = 16.0 * double(additions(radial.count) + additions(hermite.count) + M) * unitRoundoff *
+                            (radial.magnitude + hermite.magnitude);
     const double s4 = s * s * s * s;
     // Bound on the fifth directional derivative of the far terms' sum, with
     // each term's r at its nearest to the box (and to the inner ball).
-    const double fifth = kFifthDerivative * remainderSum + kHermiteFifthDerivative * hermiteRemainderSum;
+    const double fifth = kFifthDerivative * radial.remainder + kHermiteFifthDerivative * hermite.remainder;
     patch.fifthDerivative = fifth;
     patch.innerFifthDerivative =
-        kFifthDerivative * innerRemainderSum + kHermiteFifthDerivative * hermiteInnerRemainderSum;
+        kFifthDerivative * radial.innerRemainder + kHermiteFifthDerivative * hermite.innerRemainder;
     patch.coefficientRounding = rounding;
     patch.halfDiagonal = s;
     patch.gradientError = fifth / 24.0 * s4 + 4.0 * rounding / std::max(s, 1e-300);
     patch.hessianError = fifth / 6.0 * s * s * s + 12.0 * rounding / std::max(s * s, 1e-300);
+}
 
+// What the model is worth over its box: its gradient and curvature bounds,
+// the noise of evaluating it, its value error and range, and the plane and
+// band of its linear part.
+void setBoundsOverBox(const Box3& box, double s, VariationalPatch& patch) {
+    constexpr int M = VariationalPatch::kMonomials;
+    const MonomialTable& table = monomials();
+    const double unitRoundoff = std::numeric_limits<double>::epsilon() / 2;
+    const double s4 = s * s * s * s;
     // |grad f| over the box: each monomial's gradient bounded by the box's
     // half extents, then the error and the near terms.
     const Vec3 half = 0.5 * box.extent();
@@ -563,7 +602,7 @@ std::optional<VariationalPatch> buildVariationalPatch(const VariationalField& fi
         nearMagnitude += 3.0 * t.direction.norm() * reach * reach;
     }
     patch.evaluationNoise = 64.0 * unitRoundoff * (std::abs(patch.coefficients[0]) + polynomialSpread + 2.0 * nearMagnitude);
-    patch.valueError = fifth / 120.0 * s4 * s + rounding + patch.evaluationNoise;
+    patch.valueError = patch.fifthDerivative / 120.0 * s4 * s + patch.coefficientRounding + patch.evaluationNoise;
     // Each gradient component sums terms at most degree / s times the value's.
     patch.gradientNoise = 4.0 * patch.evaluationNoise / std::max(s, 1e-300);
     const double spread = polynomialSpread + nearWeight * s * s * s + 4.5 * nearHermiteWeight * s * s + patch.valueError;
@@ -574,6 +613,22 @@ std::optional<VariationalPatch> buildVariationalPatch(const VariationalField& fi
                             patch.coefficients[table.index[0][0][1]]);
     patch.planeBand = (spread - linearSpread) + 16.0 * unitRoundoff * (std::abs(patch.coefficients[0]) + linearSpread);
     patch.holdsNoZero = !patch.range.containsZero();
+}
+
+}  // namespace
+
+std::optional<VariationalPatch> buildVariationalPatch(const VariationalField& field, const Box3& box) {
+    if (box.isEmpty() || !box.isFinite()) return std::nullopt;
+    VariationalPatch patch;
+    patch.box = box;
+    const Vec3 x0 = box.center();
+    patch.expansionPoint = x0;
+    const double s = box.halfDiagonal();
+    const RadialTermSums radial = sumRadialTerms(field, x0, s, patch);
+    const HermiteTermSums hermite = sumHermiteTerms(field, x0, s, patch);
+    setCoefficients(field, x0, radial, hermite, patch);
+    setTaylorErrors(s, radial, hermite, patch);
+    setBoundsOverBox(box, s, patch);
     return patch;
 }
 

@@ -36,6 +36,7 @@ inline std::vector<CatalogEntry> fieldCatalog() {
         {"capsule", R"({"type": "capsule", "from": [-0.6, -0.3, 0], "to": [0.5, 0.4, 0.2], "radius": 0.3})"},
         {"half_space", R"({"type": "intersection", "of": [{"type": "plane", "normal": [1, 2, 0.5], "offset": 0.1}, "ball"]})"},
         {"ellipsoid", R"({"type": "ellipsoid", "radii": [1.0, 0.5, 0.7]})"},
+        {"octahedron", R"({"type": "octahedron", "center": [0.1, 0, -0.1], "size": 0.9})"},
         {"quadric", R"({"type": "quadric", "coefficients": [1, 2, 1.5, 0.2, 0, 0.1, 0, 0, 0, -0.8], "domain": [[-1.5, -1.5, -1.5], [1.5, 1.5, 1.5]]})"},
         {"tangle", R"({"type": "polynomial", "preset": "tangle"})"},
         {"heart", R"({"type": "polynomial", "preset": "heart"})"},
