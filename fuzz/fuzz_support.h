@@ -13,7 +13,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "geometry/input_error.h"
+#include "geometry/errors.h"
 
 namespace isotrace::fuzz {
 

@@ -10,7 +10,7 @@
 
 #include "geometry/assimp_library.h"
 #include "geometry/bounding_box.h"
-#include "geometry/input_error.h"
+#include "geometry/errors.h"
 
 namespace isotrace::geometry {
 

@@ -9,7 +9,7 @@
 #include <tbb/parallel_for.h>
 
 #include "geometry/description/field_parser.h"
-#include "geometry/input_error.h"
+#include "geometry/errors.h"
 #include "renderer/field_hosting.h"
 #include "renderer/image/openimageio_library.h"
 #include "renderer/image/image_output.h"

@@ -1,6 +1,6 @@
 #include "renderer/field_hosting.h"
 
-#include "geometry/input_error.h"
+#include "geometry/errors.h"
 
 #include <cstdio>
 #include <cstdlib>

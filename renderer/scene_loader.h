@@ -5,7 +5,7 @@
 #include <memory>
 #include <string>
 
-#include "geometry/input_error.h"
+#include "geometry/errors.h"
 #include "geometry/description/fit_cache.h"
 #include "geometry/description/json_reader.h"
 #include "renderer/scene.h"

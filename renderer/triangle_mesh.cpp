@@ -1,7 +1,7 @@
 #include "renderer/triangle_mesh.h"
 
 
-#include "geometry/input_error.h"
+#include "geometry/errors.h"
 #include "geometry/mesh_file.h"
 
 namespace isotrace {

@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "geometry/input_error.h"
+#include "geometry/errors.h"
 #include "geometry/vector_types.h"
 
 namespace isotrace::geometry {

@@ -6,7 +6,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "geometry/input_error.h"
+#include "geometry/errors.h"
 #include "geometry/mesh_file.h"
 
 namespace isotrace::geometry {

@@ -7,7 +7,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "geometry/input_error.h"
+#include "geometry/errors.h"
 #include "geometry/instruction_set.h"
 #include "renderer/image/partial_files.h"
 #include "renderer/platform/version.h"

@@ -7,7 +7,7 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
-#include "geometry/input_error.h"
+#include "geometry/errors.h"
 #include "renderer/commands/command.h"
 #include "renderer/image/flip_metric.h"
 #include "renderer/image/image_comparison.h"

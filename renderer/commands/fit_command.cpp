@@ -9,7 +9,7 @@
 #include <optional>
 
 #include "geometry/atomic_file.h"
-#include "geometry/input_error.h"
+#include "geometry/errors.h"
 #include "geometry/description/mpu_description.h"
 #include "geometry/description/variational_description.h"
 #include "renderer/commands/command.h"

@@ -1,6 +1,6 @@
 // `isotrace merge`: tiles of one frame (render --crop or --tile) back into
 // the whole frame, bit for bit.
-#include "geometry/input_error.h"
+#include "geometry/errors.h"
 #include "renderer/commands/command.h"
 #include "renderer/image/film.h"
 #include "renderer/image/image_output.h"

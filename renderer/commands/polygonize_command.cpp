@@ -4,7 +4,7 @@
 #include <limits>
 
 #include "geometry/description/field_parser.h"
-#include "geometry/input_error.h"
+#include "geometry/errors.h"
 #include "geometry/meshing/mesh_analysis.h"
 #include "geometry/meshing/polygonizer.h"
 #include "renderer/commands/command.h"

@@ -8,7 +8,7 @@
 #include <tbb/task_arena.h>
 
 #include "geometry/content_hash.h"
-#include "geometry/input_error.h"
+#include "geometry/errors.h"
 #include "geometry/instruction_set.h"
 #include "geometry/mesh_file.h"
 #include "renderer/commands/command.h"

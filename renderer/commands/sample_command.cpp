@@ -5,7 +5,7 @@
 #include <cstdio>
 
 #include "geometry/description/field_parser.h"
-#include "geometry/input_error.h"
+#include "geometry/errors.h"
 #include "geometry/particles/surface_particles.h"
 #include "renderer/commands/command.h"
 #include "renderer/field_hosting.h"

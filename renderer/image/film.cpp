@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <stdexcept>
 
-#include "geometry/input_error.h"
+#include "geometry/errors.h"
 
 namespace isotrace {
 

@@ -8,7 +8,7 @@
 #include <stdexcept>
 #include <unistd.h>
 
-#include "geometry/input_error.h"
+#include "geometry/errors.h"
 #include "geometry/mesh_file.h"
 #include "renderer/image/exr_file.h"
 #include "renderer/image/openimageio_library.h"

@@ -2,7 +2,7 @@
 
 #include <gtest/gtest.h>
 
-#include "geometry/input_error.h"
+#include "geometry/errors.h"
 
 #include <set>
 #include "support/temporary_files.h"

@@ -4,7 +4,7 @@
 
 #include <stdexcept>
 
-#include "geometry/input_error.h"
+#include "geometry/errors.h"
 
 using namespace isotrace;
 

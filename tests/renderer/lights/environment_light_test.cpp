@@ -3,7 +3,7 @@
 #include <cmath>
 #include <numbers>
 
-#include "geometry/input_error.h"
+#include "geometry/errors.h"
 #include "renderer/image/image_output.h"
 #include "renderer/scene_builder.h"
 #include "support/chi_square.h"
