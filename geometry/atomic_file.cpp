@@ -1,4 +1,5 @@
 #include "geometry/atomic_file.h"
+#include "geometry/errors.h"
 
 #include <filesystem>
 #include <fstream>
@@ -15,7 +16,7 @@ void writeFileAtomically(const std::string& path, const std::string& bytes) {
         if (!out) {
             std::error_code ignored;
             std::filesystem::remove(temporary, ignored);
-            throw std::runtime_error(path + ": cannot write the file");
+            throw IoError(path, "cannot write the file");
         }
     }
     std::filesystem::rename(temporary, path);

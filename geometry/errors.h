@@ -1,5 +1,12 @@
-// The one exception type for bad input: it names the file and the place in it
-// (line and column for syntax, a JSON pointer for content).
+// The error categories of the library and the program built on it. Each
+// maps to one exit status in one place (renderer/commands/command.cpp):
+// - InputError: the input is wrong; it names the file and the place in it
+//   (line and column for syntax, a JSON pointer for content).
+// - IoError: a file cannot be read or written (missing, unreadable, a full
+//   disk); it names the file.
+// - InternalError: isotrace itself is wrong (a broken invariant, a library
+//   called wrongly): a bug to report.
+// Memory exhaustion stays std::bad_alloc.
 #pragma once
 
 #include <stdexcept>
@@ -24,6 +31,25 @@ private:
         return s + ": " + message;
     }
     std::string file_, where_, message_;
+};
+
+class IoError : public std::runtime_error {
+public:
+    /// "path: message".
+    IoError(const std::string& path, const std::string& message)
+        : std::runtime_error(path.empty() ? message : path + ": " + message), path_(path) {}
+    /// A message that names its file already (a failure passed on).
+    explicit IoError(const std::string& message) : std::runtime_error(message) {}
+
+    const std::string& path() const { return path_; }
+
+private:
+    std::string path_;
+};
+
+class InternalError : public std::logic_error {
+public:
+    explicit InternalError(const std::string& message) : std::logic_error(message) {}
 };
 
 }  // namespace isotrace::geometry

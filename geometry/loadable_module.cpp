@@ -1,4 +1,5 @@
 #include "geometry/loadable_module.h"
+#include "geometry/errors.h"
 
 #include <dlfcn.h>
 
@@ -42,8 +43,8 @@ void* loadModuleEntryPoint(const ModuleDescription& m) {
         if (void* entry = dlsym(module, m.entryPoint.c_str())) return entry;
         tried += "\n  " + candidate.string() + ": no entry point " + m.entryPoint;
     }
-    throw std::runtime_error("cannot load the " + m.library + " module " + m.file + " (needed for " + m.neededFor +
-                             "); tried:" + tried);
+    throw IoError("cannot load the " + m.library + " module " + m.file + " (needed for " + m.neededFor +
+                  "); tried:" + tried);
 }
 
 }  // namespace isotrace::geometry

@@ -1,4 +1,5 @@
 #include "renderer/mesh_export.h"
+#include "geometry/errors.h"
 
 #include <algorithm>
 #include <cstdio>
@@ -20,7 +21,7 @@ void writeOff(const std::string& path, const geometry::IndexedMesh& mesh) {
     out << "OFF\n" << mesh.vertices.size() << ' ' << mesh.triangles.size() << " 0\n";
     for (const auto& v : mesh.vertices) out << v.x() << ' ' << v.y() << ' ' << v.z() << '\n';
     for (const auto& t : mesh.triangles) out << "3 " << t[0] << ' ' << t[1] << ' ' << t[2] << '\n';
-    if (!out.flush()) throw std::runtime_error(path + ": cannot write the mesh");
+    if (!out.flush()) throw geometry::IoError(path, "cannot write the mesh");
 }
 
 // Assimp's own message after the path, as the other write errors read.
@@ -29,7 +30,7 @@ void writeMeshWithAssimp(const std::string& path, const geometry::IndexedMesh& m
     try {
         assimp.write(path, mesh, formatId);
     } catch (const std::runtime_error& e) {
-        throw std::runtime_error(path + ": cannot write the mesh: " + e.what());
+        throw geometry::IoError(path, std::string("cannot write the mesh: ") + e.what());
     }
 }
 

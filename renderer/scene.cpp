@@ -2,17 +2,14 @@
 
 #include <cmath>
 #include <limits>
+#include <new>
+#include <string>
 #include <stdexcept>
 
+#include "geometry/errors.h"
 #include "geometry/tracing/embree_implicit_geometry.h"
 
 namespace isotrace {
-
-namespace {
-void embreeError(void*, RTCError code, const char* message) {
-    throw std::runtime_error(std::string("Embree error ") + std::to_string(int(code)) + ": " + (message ? message : ""));
-}
-}  // namespace
 
 Scene::Scene() = default;
 
@@ -27,8 +24,12 @@ Scene::~Scene() {
 RTCDevice Scene::device() const {
     if (!device_) {
         device_ = rtcNewDevice(nullptr);
-        if (!device_) throw std::runtime_error("cannot create an Embree device");
-        rtcSetDeviceErrorFunction(device_, embreeError, nullptr);
+        if (!device_) {
+            const RTCError code = rtcGetDeviceError(nullptr);
+            if (code == RTC_ERROR_OUT_OF_MEMORY) throw std::bad_alloc();
+            throw geometry::InternalError("cannot create an Embree device (Embree error " + std::to_string(int(code)) + ")");
+        }
+        embreeErrors_.attachTo(device_);
     }
     return device_;
 }
@@ -105,6 +106,7 @@ void Scene::commit() {
         rtcReleaseGeometry(inst);
     }
     rtcCommitScene(top_);
+    embreeErrors_.check("building the scene");
 }
 
 bool Scene::attachedAsIs(const SceneObject& object) {
@@ -126,6 +128,7 @@ void Scene::buildShapeScene(size_t shape) const {
     if (shape < meshes.size()) attachTriangles(device_, s, *meshes[shape], 0);
     else geometry::attachImplicitSurface(device_, s, *surfaces[shape - meshes.size()]);
     rtcCommitScene(s);
+    embreeErrors_.check("building an object's own scene");
     shapeSceneBuilt_[shape] = true;
 }
 

@@ -16,6 +16,7 @@
 #include "renderer/light_sampler.h"
 #include "renderer/material.h"
 #include "renderer/plane_mirror.h"
+#include "renderer/platform/embree_errors.h"
 #include "renderer/triangle_mesh.h"
 
 namespace isotrace {
@@ -112,6 +113,7 @@ private:
     /// Fills and commits a mesh's or surface's own scene, once (see commit).
     void buildShapeScene(size_t shape) const;
 
+    mutable EmbreeErrorRecord embreeErrors_;  ///< checked after each build
     mutable RTCDevice device_ = nullptr;
     mutable std::vector<bool> shapeSceneBuilt_;
     RTCScene top_ = nullptr;

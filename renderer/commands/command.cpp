@@ -47,16 +47,27 @@ CLI::Validator wholeNumber() {
 }
 CLI::Validator finiteNumber() { return finiteValidator(false); }
 
+// The one place that maps an error's category (geometry/errors.h) to what
+// the user reads and the exit status.
 int runReportingErrors(const std::function<int()>& body) {
     try {
         return body();
     } catch (const geometry::InputError& e) {
         std::fprintf(stderr, "error: %s\n", e.what());
         return kExitBadInput;
+    } catch (const geometry::IoError& e) {
+        std::fprintf(stderr, "error: %s\n", e.what());
+        return kExitBadInput;
     } catch (const std::bad_alloc&) {
         std::fprintf(stderr, "error: not enough memory for this input\n");
         return kExitBadInput;
+    } catch (const geometry::InternalError& e) {
+        std::fprintf(stderr, "internal error: %s (a bug in isotrace %s; please report it with the command line)\n",
+                     e.what(), kVersion);
+        return kExitInternalError;
     } catch (const std::runtime_error& e) {
+        // What the libraries isotrace reads files with report about them
+        // (OpenImageIO, Assimp, OpenEXR): the input, not isotrace, is at fault.
         std::fprintf(stderr, "error: %s\n", e.what());
         return kExitBadInput;
     } catch (const std::exception& e) {

@@ -1,4 +1,5 @@
 #include "renderer/image/exr_file.h"
+#include "geometry/errors.h"
 
 #include <OpenEXR/ImfChannelList.h>
 #include <OpenEXR/ImfFrameBuffer.h>
@@ -135,7 +136,7 @@ void writeExr(const std::string& path, const ImageFile& image, const float* pixe
         file.setFrameBuffer(frame);
         file.writePixels(image.height);
     } catch (const std::exception& e) {
-        throw std::runtime_error(path + ": cannot write image: " + e.what());
+        throw geometry::IoError(path, std::string("cannot write image: ") + e.what());
     }
 }
 
@@ -228,7 +229,7 @@ void ExrRowWriter::writeRows(const std::vector<ChannelPlane>& planes, int end) {
         encoder_->file->setFrameBuffer(frame);
         encoder_->file->writePixels(end - rowsWritten_);
     } catch (const std::exception& e) {
-        throw std::runtime_error(std::string("cannot write image: ") + e.what());
+        throw geometry::IoError(std::string("cannot write image: ") + e.what());
     }
     rowsWritten_ = end;
 }
@@ -252,7 +253,7 @@ void ExrRowWriter::finish(const std::vector<std::pair<std::string, std::string>>
     } catch (const std::logic_error&) {
         throw;
     } catch (const std::exception& e) {
-        throw std::runtime_error(std::string("cannot write image: ") + e.what());
+        throw geometry::IoError(std::string("cannot write image: ") + e.what());
     }
 }
 
@@ -297,7 +298,7 @@ ImageFile readExr(const std::string& path, bool withPixels) {
         file.readPixels(data.min.y, data.max.y);
         return image;
     } catch (const std::exception& e) {
-        throw std::runtime_error(path + ": cannot read image: " + e.what());
+        throw geometry::IoError(path, std::string("cannot read image: ") + e.what());
     }
 }
 

@@ -32,7 +32,7 @@ void moveIntoPlace(const std::string& temporary, const std::string& path) {
     std::filesystem::rename(temporary, path, ec);
     if (ec) {
         std::filesystem::remove(temporary, ignored);
-        throw std::runtime_error(path + ": cannot move the finished image into place: " + ec.message());
+        throw geometry::IoError(path, "cannot move the finished image into place: " + ec.message());
     }
 }
 
@@ -51,9 +51,12 @@ void writeAtomically(const std::string& path, const std::function<void(const std
     const PartialFile guard(temporary);
     try {
         write(temporary);
-    } catch (const std::exception& e) {
+    } catch (const std::runtime_error& e) {  // a writer's failure (the OpenImageIO module reports plain ones)
         std::filesystem::remove(temporary);
-        throw std::runtime_error(namingTheOutput(e.what(), temporary, path));
+        throw geometry::IoError(namingTheOutput(e.what(), temporary, path));
+    } catch (...) {
+        std::filesystem::remove(temporary);
+        throw;
     }
     moveIntoPlace(temporary, path);
 }
@@ -225,8 +228,8 @@ void RenderExrWriter::rowsFinished(const Image& image, int end) {
             for (size_t k = 0; k < extra; ++k) planes_.push_back({image.extra.data() + k, extra});
         }
         writer_->writeRows(planes_, end);
-    } catch (const std::exception& e) {
-        throw std::runtime_error(errorNamingTheOutput(e.what()));
+    } catch (const std::runtime_error& e) {
+        throw geometry::IoError(errorNamingTheOutput(e.what()));
     }
 }
 
@@ -234,10 +237,8 @@ void RenderExrWriter::finish(const Image& image, const std::vector<std::pair<std
     if (!writer_ || writer_->rowsWritten() < image.height) rowsFinished(image, image.height);
     try {
         writer_->finish(lateValues);
-    } catch (const std::logic_error&) {
-        throw;
-    } catch (const std::exception& e) {
-        throw std::runtime_error(errorNamingTheOutput(e.what()));
+    } catch (const std::runtime_error& e) {
+        throw geometry::IoError(errorNamingTheOutput(e.what()));
     }
     writer_.reset();
     moveIntoPlace(temporary_, path_);

@@ -1,4 +1,5 @@
 #include "renderer/image/png_file.h"
+#include "geometry/errors.h"
 
 #include <png.h>
 
@@ -20,7 +21,7 @@ void writePng(const std::string& path, const unsigned char* rgb, int width, int 
     if (!png_image_write_to_file(&image, path.c_str(), 0, rgb, 0, nullptr)) {
         const std::string message = image.message;
         png_image_free(&image);
-        throw std::runtime_error(path + ": cannot write image: " + message);
+        throw geometry::IoError(path, "cannot write image: " + message);
     }
 }
 

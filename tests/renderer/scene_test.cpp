@@ -4,7 +4,9 @@
 
 #include <random>
 
+#include "geometry/errors.h"
 #include "renderer/integrator.h"
+#include "renderer/platform/embree_errors.h"
 #include "support/scene_files.h"
 
 using namespace isotrace;
@@ -139,4 +141,28 @@ TEST(Scene, ObjectsPlacedAsTheyAreOrInstancedReportTheirOwnHits) {
                 << "object " << object;
         }
     }
+}
+
+// Embree's errors come back as exceptions after the call, never thrown
+// through its C callback: a wrong call is an internal error naming what
+// was being done, reported once.
+TEST(EmbreeErrorRecord, ReportsAWrongCallAfterItAsAnInternalError) {
+    RTCDevice device = rtcNewDevice(nullptr);
+    ASSERT_NE(device, nullptr);
+    {
+        EmbreeErrorRecord errors;
+        errors.attachTo(device);
+        EXPECT_NO_THROW(errors.check("doing nothing"));
+        RTCGeometry geometry = rtcNewGeometry(device, RTCGeometryType(999));  // no such type: an invalid argument
+        EXPECT_EQ(geometry, nullptr);
+        try {
+            errors.check("making a geometry");
+            ADD_FAILURE() << "no error reported";
+        } catch (const geometry::InternalError& e) {
+            EXPECT_NE(std::string(e.what()).find("while making a geometry"), std::string::npos) << e.what();
+        }
+        EXPECT_NO_THROW(errors.check("the same call again")) << "an error is reported once";
+        rtcSetDeviceErrorFunction(device, nullptr, nullptr);
+    }
+    rtcReleaseDevice(device);
 }

@@ -14,7 +14,12 @@ TEST(Command, ExitStatusTellsBadInputFromInternalErrors) {
     ::testing::internal::CaptureStderr();
     EXPECT_EQ(runReportingErrors([]() -> int { throw geometry::InputError("s.json", "/film/width", "must be positive"); }),
               kExitBadInput);
-    EXPECT_EQ(runReportingErrors([]() -> int { throw std::runtime_error("out.exr: cannot write image"); }), kExitBadInput);
+    EXPECT_EQ(runReportingErrors([]() -> int { throw geometry::IoError("out.exr", "cannot write image"); }), kExitBadInput);
+    EXPECT_EQ(runReportingErrors([]() -> int { throw std::runtime_error("in.obj: a library's own complaint"); }),
+              kExitBadInput);
+    EXPECT_EQ(runReportingErrors([]() -> int { throw std::bad_alloc(); }), kExitBadInput);
+    EXPECT_EQ(runReportingErrors([]() -> int { throw geometry::InternalError("Embree error 2 while building"); }),
+              kExitInternalError);
     EXPECT_EQ(runReportingErrors([]() -> int { throw std::logic_error("object placed with no such shape"); }),
               kExitInternalError);
     EXPECT_EQ(runReportingErrors([]() -> int { throw 42; }), kExitInternalError);
@@ -22,6 +27,8 @@ TEST(Command, ExitStatusTellsBadInputFromInternalErrors) {
     const std::string err = ::testing::internal::GetCapturedStderr();
     EXPECT_NE(err.find("error: s.json: /film/width: must be positive"), std::string::npos) << err;
     EXPECT_NE(err.find("internal error: object placed with no such shape"), std::string::npos) << err;
+    EXPECT_NE(err.find("error: out.exr: cannot write image"), std::string::npos) << err;
+    EXPECT_NE(err.find("internal error: Embree error 2 while building"), std::string::npos) << err;
     EXPECT_NE(kExitInternalError, kExitBadInput);
     EXPECT_NE(kExitInternalError, kExitComparisonFailed);
 }
