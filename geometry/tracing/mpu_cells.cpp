@@ -38,17 +38,9 @@ constexpr int kMaxModelSplits = 4;
 // its curvature, a slab a ray crosses in closed form, so rays that miss it
 // read nothing more.
 PartQuadraticModel partModelOf(const MpuNumeratorModel& m) {
-    PartQuadraticModel q;
-    const double hessian[6] = {m.hessian(0, 0), m.hessian(0, 1), m.hessian(0, 2),
-                               m.hessian(1, 1), m.hessian(1, 2), m.hessian(2, 2)};
-    std::copy(std::begin(hessian), std::end(hessian), q.hessian);
-    q.valueError = m.valueError;
-    q.slopeError = m.slopeError;
-    q.hessianError = m.hessianError;
-    q.remainderThird = m.remainderThird;
-    q.valueFloor = m.valueFloor;
-    q.slopeFloor = m.slopeFloor;
-    return q;
+    const Mat3& h = m.hessian;
+    return {{h(0, 0), h(0, 1), h(0, 2), h(1, 1), h(1, 2), h(2, 2)},
+            m.valueError, m.slopeError, m.hessianError, m.remainderThird, m.valueFloor, m.slopeFloor};
 }
 
 // The box Embree is offered for a part: within `partBox` (inside the box

@@ -1,6 +1,6 @@
 // A diffuse floor (albedo 0.5, 120 m wide) at height y with whatever a test
-// adds (lights, emitters), direct light only, and the floor's radiance seen
-// straight down: the setting of the closed-form light tests.
+// adds (lights, emitters), and the floor's radiance seen straight down: the
+// setting of the closed-form light tests.
 #pragma once
 
 #include <functional>
@@ -10,9 +10,10 @@
 
 namespace isotrace::testing {
 
-inline std::unique_ptr<Scene> floorScene(const char* integrator, double y, const std::function<void(SceneBuilder&)>& add) {
+inline std::unique_ptr<Scene> floorScene(const geometry::Json& integrator, double y,
+                                         const std::function<void(SceneBuilder&)>& add) {
     SceneBuilder builder;
-    builder.setIntegrator(geometry::Json{{"type", integrator}, {"max_depth", 1}});
+    builder.setIntegrator(integrator);
     SceneObject floor;
     floor.material = builder.addMaterial("floor grey", {{"type", "diffuse"}, {"albedo", {0.5, 0.5, 0.5}}});
     TriangleMesh mesh;
@@ -23,6 +24,11 @@ inline std::unique_ptr<Scene> floorScene(const char* integrator, double y, const
     builder.addObject(floor);
     add(builder);
     return builder.build();
+}
+
+/// The same with integrator type `integrator` at depth 1.
+inline std::unique_ptr<Scene> floorScene(const char* integrator, double y, const std::function<void(SceneBuilder&)>& add) {
+    return floorScene(geometry::Json{{"type", integrator}, {"max_depth", 1}}, y, add);
 }
 
 /// The mean green radiance of `samples` paths looking straight down from

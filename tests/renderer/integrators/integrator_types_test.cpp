@@ -7,12 +7,11 @@
 
 #include "renderer/integrator.h"
 #include "renderer/scene_builder.h"
+#include "support/floor_scene.h"
 #include "support/plugin_catalog.h"
 
 using namespace isotrace;
-using isotrace::testing::integratorCatalog;
-using isotrace::testing::missingFrom;
-using isotrace::testing::PluginEntry;
+using namespace isotrace::testing;
 
 TEST(PluginCatalog, CoversEveryRegisteredIntegratorType) {
     EXPECT_EQ(missingFrom(integratorCatalog(), integratorRegistry().names()), std::vector<std::string>{})
@@ -51,17 +50,9 @@ TEST_P(EveryIntegrator, RaysThatMissEverythingSeeTheEnvironment) {
 // albedo E / pi from every sample (the light is a delta, and no other path
 // carries light), seen from any direction.
 TEST_P(EveryIntegrator, DirectLightOnADiffuseFloorIsTheClosedForm) {
-    SceneBuilder builder;
-    builder.setIntegrator(GetParam().description);
-    SceneObject floor;
-    floor.material = builder.addMaterial("floor", {{"type", "diffuse"}, {"albedo", {0.5, 0.5, 0.5}}});
-    TriangleMesh mesh;
-    mesh.positions = {-60, 0, -60, 60, 0, -60, 60, 0, 60, -60, 0, 60};
-    mesh.indices = {0, 2, 1, 0, 3, 2};
-    floor.shape = builder.addMesh(std::move(mesh));
-    builder.addObject(floor);
-    builder.addLight(geometry::Json{{"type", "directional"}, {"direction", {0, -1, 0}}, {"irradiance", {2, 2, 2}}});
-    const std::unique_ptr<Scene> scene = builder.build();
+    const std::unique_ptr<Scene> scene = floorScene(GetParam().description, 0.0, [](SceneBuilder& builder) {
+        builder.addLight(geometry::Json{{"type", "directional"}, {"direction", {0, -1, 0}}, {"irradiance", {2, 2, 2}}});
+    });
     const double expected = 0.5 * 2 / std::numbers::pi;
     for (int s = 0; s < 16; ++s) {
         const Vec3 direction = Vec3(0.2 * std::sin(s), -1, 0.3 * std::cos(s)).normalized();

@@ -12,10 +12,7 @@
 #include "support/temporary_files.h"
 
 using namespace isotrace;
-using isotrace::testing::missingFrom;
-using isotrace::testing::PluginEntry;
-using isotrace::testing::TemporaryFolder;
-using isotrace::testing::textureCatalog;
+using namespace isotrace::testing;
 
 namespace {
 
