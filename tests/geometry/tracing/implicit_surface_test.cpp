@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "support/compile_field.h"
+#include "support/embree_scene.h"
 
 using namespace isotrace::geometry;
 using isotrace::testing::compileField;
@@ -155,4 +156,34 @@ TEST(ImplicitSurface, DistanceBoundedCellsStopSplittingEarly) {
     marchOnly.cellAccelerators.clear();
     const ImplicitSurface tangle(compileField(R"({"type": "polynomial", "preset": "tangle"})"), marchOnly);
     EXPECT_LT(smallestCellExtent(tangle), tangle.refinementRoot().extent().maxCoeff() / 8 / 4 * (1 - 1e-9));
+}
+
+// A CSG face that lies on the plane between two octree cells (a box cut
+// from a sphere at its centre's planes, where the octree splits) belongs to
+// neither cell's interior: each cell must still see the sign change there.
+// Missed, a ray into the cut-away octant went on to the sphere's far side
+// and was taken for one leaving the solid (issue #62: glass gained ior^2).
+// Every ray into the cut corner must meet the cut faces, from the sphere
+// tracer and from the closed-form CSG cells alike, with the face's normal.
+TEST(ImplicitSurface, FacesOnCellBoundariesAreHit) {
+    const char* cut = R"({"type": "difference", "of": [{"type": "sphere", "radius": 1},
+        {"type": "box", "center": [0.5, 0.5, 0.5], "size": [1, 1, 1]}]})";
+    for (const bool accelerated : {true, false}) {
+        ImplicitSurfaceOptions options;
+        if (!accelerated) options.cellAccelerators.clear();
+        ImplicitSurface surface(isotrace::testing::compileField(cut), options);
+        isotrace::testing::EmbreeScene scene;
+        scene.attach(surface);
+        scene.commit();
+        for (const Vec3& target : {Vec3(0.3, 0.4, 0.0), Vec3(0.61, 0.2, 0.0), Vec3(0.1, 0.05, 0.0)}) {
+            const isotrace::testing::EmbreeHit hit = scene.intersect(target + Vec3(0, 0, 4), Vec3(0, 0, -1));
+            ASSERT_TRUE(hit.hit) << target.transpose();
+            EXPECT_NEAR(hit.t, 4.0, 1e-5) << "accelerated " << accelerated << ", towards " << target.transpose();
+            EXPECT_GT(hit.normal.normalized().z(), 0.99) << hit.normal.transpose();
+        }
+        // Along x into the face x = 0 of the cut.
+        const isotrace::testing::EmbreeHit side = scene.intersect(Vec3(4, 0.3, 0.4), Vec3(-1, 0, 0));
+        ASSERT_TRUE(side.hit);
+        EXPECT_NEAR(side.t, 4.0, 1e-5) << "accelerated " << accelerated;
+    }
 }
