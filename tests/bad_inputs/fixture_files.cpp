@@ -35,6 +35,7 @@ const char* completeScene() {
   "spike": {"type": "cone", "radius": 0.5, "top_radius": 0.1, "height": 1},
   "pill": {"type": "capsule", "from": [0, 0, 0], "to": [0, 1, 0], "radius": 0.2},
   "egg": {"type": "ellipsoid", "radii": [1, 0.5, 0.5]},
+  "gem": {"type": "octahedron", "center": [0, 0, 0], "size": 0.8},
   "tangle": {"type": "polynomial", "preset": "tangle"},
   "cubic": {"type": "polynomial", "terms": [[1, 2, 0, 0], [1, 0, 2, 0], [1, 0, 0, 2], [-1, 0, 0, 0]],
             "domain": [[-2, -2, -2], [2, 2, 2]]},
@@ -56,7 +57,7 @@ const char* completeScene() {
              "bounds": [[-1, -1, -1], [1, 1, 1]]},
   "fit": {"type": "variational", "points": "ring.xyz", "normal_offset": 0.01, "margin": 0.1},
   "scan": {"type": "mpu", "points": "ring.xyz", "accuracy": 0.01, "support": 0.75, "max_depth": 4, "min_points": 15},
-  "all": {"type": "union", "of": ["tube", "spike", "grown", "moved", "egg", "cubic", "round", "blobs", "stick", "hoop",
+  "all": {"type": "union", "of": ["tube", "spike", "grown", "moved", "egg", "gem", "cubic", "round", "blobs", "stick", "hoop",
                                   "arm", "half", "hollow", "fit", "scan"], "lipschitz": 20}
  },
  "objects": [
