@@ -119,6 +119,12 @@ public:
     /// zeros when the accelerator gave none).
     virtual CellTraceResult trace(uint32_t part, const PartBand& band, const PartPayload& payload, const Vec3& origin,
                                   const Vec3& direction, double t0, double t1, const TraceSettings& settings) const = 0;
+    /// Whether trace() stays exact on a segment that starts a resolution
+    /// step before the part's box: ImplicitSurface starts segments there, so
+    /// that a surface on the face a ray enters by (a CSG cut on one of the
+    /// octree's planes) is seen crossing. Tracers whose models are proven
+    /// only within their parts say no.
+    virtual bool tracesFromBeforeItsPart() const { return true; }
     /// Takes over the parts of another cell's acceleration by the same
     /// accelerator, so that one tracer marches many cells and stays in
     /// cache. Returns where `other`'s parts and terms go in this tracer:

@@ -88,20 +88,14 @@ public:
                           double t0, double t1, const TraceSettings& settings) const override {
         CellTraceResult r;
         if (!(t1 > t0)) return r;
-        // Spans are formed from a resolution step before the segment: a
-        // surface on the face the ray enters the cell by (a box cut on one
-        // of the octree's planes) then ends a span inside the segment,
-        // rather than sitting on its open end, where neither this cell nor
-        // the one before would see it cross.
-        const double start = t0 - settings.epsilon / direction.norm();
         std::array<SpanList, kMaxInstructions> slot;
         for (size_t i = 0; i < code_.size(); ++i) {
             const FieldInstruction& in = code_[i];
             switch (in.op) {
-                case FieldOp::Leaf: leafSpans(int(in.a), origin, direction, start, t1, settings, slot[i], r); break;
+                case FieldOp::Leaf: leafSpans(int(in.a), origin, direction, t0, t1, settings, slot[i], r); break;
                 case FieldOp::Min: unite(slot[in.a], slot[in.b], slot[i]); break;
                 case FieldOp::Max: intersect(slot[in.a], slot[in.b], slot[i]); break;
-                case FieldOp::Negate: complement(slot[in.a], start, t1, slot[i]); break;
+                case FieldOp::Negate: complement(slot[in.a], t0, t1, slot[i]); break;
                 default: break;  // not taken (see accelerate)
             }
         }
@@ -114,12 +108,10 @@ public:
             r.restEnd = t1;
             return r;
         }
-        // A crossing within that step before t0 is reported at t0: the
-        // segment's own start, within the resolution of the surface.
         for (int i = 0; i < solid.count; ++i) {
             const Span& s = solid.spans[i];
-            if (s.enterLeaf >= 0) return hitOn(r, s.enterLeaf, std::max(s.enter, t0), true, origin, direction);
-            if (s.leaveLeaf >= 0) return hitOn(r, s.leaveLeaf, std::max(s.leave, t0), false, origin, direction);
+            if (s.enterLeaf >= 0) return hitOn(r, s.enterLeaf, s.enter, true, origin, direction);
+            if (s.leaveLeaf >= 0) return hitOn(r, s.leaveLeaf, s.leave, false, origin, direction);
         }
         return r;
     }

@@ -194,7 +194,9 @@ ImplicitSurface::ImplicitSurface(FieldProgram field, const ImplicitSurfaceOption
         }
         b.keep = true;
         b.cell.box = box;
-        b.cell.lipschitz = options.globalLipschitzOnly ? globalLipschitz_ : program.estimate(box).lipschitz;
+        // Over the margin a segment starts before the cell too (intersectCell).
+        b.cell.lipschitz = options.globalLipschitzOnly ? globalLipschitz_
+                                                       : program.estimate(box.expanded(settings_.epsilon)).lipschitz;
     });
     // The cells are counted first: an MPU surface has close to a million,
     // and a growing vector would hold its old and new copies at once.
@@ -253,6 +255,13 @@ TraceResult ImplicitSurface::intersectCell(uint32_t index, const Vec3& origin, c
     const SurfaceCell& cell = cells_[index];
     double t0 = tNear, t1 = tFar;
     if (!clipRayToBox(cell.box, origin, direction, t0, t1)) return {};
+    // A surface on the face the ray enters the cell by lies inside no cell:
+    // the segment starts a resolution step before the face (the cell's
+    // Lipschitz bound covers that margin), and a crossing there is reported
+    // on the face.
+    const double entry = t0;
+    if (t0 > tNear && (cell.tracer < 0 || tracers_[cell.tracer]->tracesFromBeforeItsPart()))
+        t0 = std::max(tNear, t0 - settings_.epsilon / direction.norm());
     const FieldProgram& program = programs_[cell.program];
     TraceResult r;
     TraceSettings settings = settings_;
@@ -275,6 +284,7 @@ TraceResult ImplicitSurface::intersectCell(uint32_t index, const Vec3& origin, c
     TraceCounters& counters = threadTraceCounters();
     counters.steps += r.steps;
     counters.evaluations += r.evaluations;
+    if (r.hit) r.t = std::max(r.t, entry);
     // Hits exactly at tNear belong to the caller's previous surface.
     if (r.hit && !(r.t > tNear && r.t < tFar)) r.hit = false;
     return r;

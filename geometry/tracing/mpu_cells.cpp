@@ -76,6 +76,9 @@ Box3 boxAroundModelSurface(const Box3& partBox, const Box3& b, const MpuNumerato
 // the deepest parts, kept however loose) take the exact search.
 class MpuCellTracer final : public CellTracer {
 public:
+    // Its models are proven over its parts only.
+    bool tracesFromBeforeItsPart() const override { return false; }
+
     MpuCellTracer(std::shared_ptr<const MpuField> field, const LeafPlacement& placement, std::vector<Box3> leafBoxes,
                   std::vector<uint32_t> locals)
         : field_(std::move(field)), placement_(placement), partCount_(leafBoxes.size()),

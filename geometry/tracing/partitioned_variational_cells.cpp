@@ -65,6 +65,9 @@ struct ModelledPart {
 
 class PartitionedVariationalCellTracer final : public CellTracer {
 public:
+    // Its models are proven over its parts only.
+    bool tracesFromBeforeItsPart() const override { return false; }
+
     PartitionedVariationalCellTracer(std::shared_ptr<const MpuField> field, const LeafPlacement& placement,
                                      std::vector<ModelledPart> parts, std::vector<ModelledLocal> locals,
                                      std::vector<uint32_t> localIndices, std::vector<VariationalPatch> models)

@@ -8,6 +8,9 @@ namespace {
 
 class VariationalCellTracer final : public CellTracer {
 public:
+    // Its models are proven over its parts only.
+    bool tracesFromBeforeItsPart() const override { return false; }
+
     VariationalCellTracer(std::vector<VariationalPatch> models, std::vector<Box3> parts,
                           std::shared_ptr<const VariationalField> field, const LeafPlacement& placement)
         : models_(std::move(models)), parts_(std::move(parts)), field_(std::move(field)), placement_(placement) {}

@@ -17,6 +17,9 @@ constexpr int kFinestSplit = 2;
 
 class VariationalCsgCellTracer final : public CellTracer {
 public:
+    // Its models are proven over its parts only.
+    bool tracesFromBeforeItsPart() const override { return false; }
+
     VariationalCsgCellTracer(FieldProgram program, uint32_t leaf, const Box3& leafBox, int split,
                              std::vector<VariationalPatch> models, double lipschitz, size_t terms)
         : program_(std::move(program)), leaf_(leaf), placement_(program_.leaf(leaf).placement),

@@ -166,24 +166,33 @@ TEST(ImplicitSurface, DistanceBoundedCellsStopSplittingEarly) {
 // Every ray into the cut corner must meet the cut faces, from the sphere
 // tracer and from the closed-form CSG cells alike, with the face's normal.
 TEST(ImplicitSurface, FacesOnCellBoundariesAreHit) {
-    const char* cut = R"({"type": "difference", "of": [{"type": "sphere", "radius": 1},
-        {"type": "box", "center": [0.5, 0.5, 0.5], "size": [1, 1, 1]}]})";
-    for (const bool accelerated : {true, false}) {
-        ImplicitSurfaceOptions options;
-        if (!accelerated) options.cellAccelerators.clear();
-        ImplicitSurface surface(isotrace::testing::compileField(cut), options);
-        isotrace::testing::EmbreeScene scene;
-        scene.attach(surface);
-        scene.commit();
-        for (const Vec3& target : {Vec3(0.3, 0.4, 0.0), Vec3(0.61, 0.2, 0.0), Vec3(0.1, 0.05, 0.0)}) {
-            const isotrace::testing::EmbreeHit hit = scene.intersect(target + Vec3(0, 0, 4), Vec3(0, 0, -1));
-            ASSERT_TRUE(hit.hit) << target.transpose();
-            EXPECT_NEAR(hit.t, 4.0, 1e-5) << "accelerated " << accelerated << ", towards " << target.transpose();
-            EXPECT_GT(hit.normal.normalized().z(), 0.99) << hit.normal.transpose();
+    // In the large sphere the sphere is pruned from the cells by the cut's
+    // faces, which leaves the carving box alone there; rays start inside the
+    // cut-away box, at `start` from the face.
+    struct Case {
+        const char* field;
+        double start;
+    };
+    for (const Case& c : {Case{R"({"type": "difference", "of": [{"type": "sphere", "radius": 1},
+                                   {"type": "box", "center": [0.5, 0.5, 0.5], "size": [1, 1, 1]}]})", 4.0},
+                          Case{R"({"type": "difference", "of": [{"type": "sphere", "radius": 3},
+                                   {"type": "box", "center": [0.5, 0.5, 0.5], "size": [1, 1, 1]}]})", 0.5}})
+        for (const bool accelerated : {true, false}) {
+            ImplicitSurfaceOptions options;
+            if (!accelerated) options.cellAccelerators.clear();
+            ImplicitSurface surface(isotrace::testing::compileField(c.field), options);
+            isotrace::testing::EmbreeScene scene;
+            scene.attach(surface);
+            scene.commit();
+            for (const Vec3& target : {Vec3(0.3, 0.4, 0.0), Vec3(0.61, 0.2, 0.0), Vec3(0.1, 0.05, 0.0)}) {
+                const isotrace::testing::EmbreeHit hit = scene.intersect(target + Vec3(0, 0, c.start), Vec3(0, 0, -1));
+                ASSERT_TRUE(hit.hit) << target.transpose();
+                EXPECT_NEAR(hit.t, c.start, 1e-5) << "accelerated " << accelerated << ", towards " << target.transpose();
+                EXPECT_GT(hit.normal.normalized().z(), 0.99) << hit.normal.transpose();
+            }
+            // Along x into the face x = 0 of the cut.
+            const isotrace::testing::EmbreeHit side = scene.intersect(Vec3(c.start, 0.3, 0.4), Vec3(-1, 0, 0));
+            ASSERT_TRUE(side.hit);
+            EXPECT_NEAR(side.t, c.start, 1e-5) << "accelerated " << accelerated;
         }
-        // Along x into the face x = 0 of the cut.
-        const isotrace::testing::EmbreeHit side = scene.intersect(Vec3(4, 0.3, 0.4), Vec3(-1, 0, 0));
-        ASSERT_TRUE(side.hit);
-        EXPECT_NEAR(side.t, 4.0, 1e-5) << "accelerated " << accelerated;
-    }
 }
