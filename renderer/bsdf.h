@@ -72,6 +72,10 @@ public:
     /// Light may pass through: directions below the surface count, and
     /// lights behind it may be sampled.
     bool transmits() const { return (flags() & kBSDFTransmission) != 0; }
+    /// The index of refraction of the solid the surface bounds (glass, not
+    /// a thin sheet), whose inside paths keep track of; 0 for surfaces
+    /// without one.
+    virtual double solidIndex() const { return 0.0; }
 
     /// f(wo, wi), without the cosine.
     virtual RGB evaluate(const ShadingPoint& p, const Vec3& wo, const Vec3& wi) const = 0;

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <numbers>
+#include <vector>
 
 namespace isotrace {
 
@@ -49,6 +50,80 @@ ShadingPoint shadingPointOf(const Scene& scene, const SurfaceHit& hit, const Vec
     p.objectNormal = hit.objectNormal;
     if (hit.object >= 0) p.footprint = footprint * scene.objects[hit.object].objectFromWorldScale;
     return p;
+}
+
+ShadingPoint deltaShadingPoint(const BSDF& bsdf, const ShadingPoint& sp, const Vec3& wo) {
+    ShadingPoint flat = sp;
+    flat.shadingNormal = sp.geometricNormal;
+    if (!(sp.shadingNormal.dot(wo) > 0)) return flat;
+    BSDFSample lobes[2];
+    const int count = bsdf.deltaLobes(sp, wo, lobes);
+    for (int i = 0; i < count; ++i)
+        if (sp.geometricNormal.dot(lobes[i].wi) * sp.shadingNormal.dot(lobes[i].wi) <= 0) return flat;
+    return sp;
+}
+
+namespace {
+
+/// The index of the solid an object's surface bounds, or 0.
+double solidIndexOf(const Scene& scene, int object) {
+    const BSDF* bsdf = scene.materials[scene.objects[object].material].bsdf.get();
+    return bsdf ? bsdf->solidIndex() : 0.0;
+}
+
+/// A hit on a solid's surface whose side (as shadingPointOf judges it)
+/// disagrees with what the path knows.
+bool contradicts(const Scene& scene, const SurfaceHit& hit, const Vec3& direction, const InteriorStack& interiors) {
+    if (!(solidIndexOf(scene, hit.object) > 0)) return false;
+    const InteriorStack::Side side = interiors.side(hit.object);
+    if (side == InteriorStack::Side::Unknown) return false;
+    const bool entering = hit.geometricNormal.dot(direction) <= 0;
+    return entering == (side == InteriorStack::Side::Inside);
+}
+
+}  // namespace
+
+bool nextSurface(const Scene& scene, const Ray& ray, const InteriorStack& interiors, SurfaceHit& hit) {
+    // A bound on passes, for a path whose record is wrong after all.
+    constexpr int kMostPasses = 8;
+    Ray r = ray;
+    for (int pass = 0;; ++pass) {
+        if (!scene.intersect(r, INFINITY, hit)) return false;
+        if (pass == kMostPasses || !contradicts(scene, hit, r.direction, interiors)) {
+            hit.t = (hit.position - ray.origin).norm();
+            return true;
+        }
+        r.origin = hit.position + rayOffset(hit.position) * r.direction;
+    }
+}
+
+void recordSide(const Scene& scene, const SurfaceHit& hit, const ShadingPoint& sp, const Vec3& wi,
+                InteriorStack& interiors) {
+    const double ior = solidIndexOf(scene, hit.object);
+    if (!(ior > 0)) return;
+    const bool crossed = sp.geometricNormal.dot(wi) < 0;
+    interiors.record(hit.object, ior, sp.outside == crossed);
+}
+
+InteriorStack interiorsAt(const Scene& scene, const Vec3& point) {
+    // Along one ray from the point, the first surface of each closed solid
+    // seen from inside is one the point is in; solids the ray never meets
+    // it is outside of. The direction avoids the axes and diagonals that
+    // scenes are built along.
+    const Vec3 direction = Vec3(0.2672, 0.5345, 0.8018).normalized();
+    InteriorStack interiors;
+    std::vector<bool> met(scene.objects.size(), false);
+    Ray ray{point, direction};
+    SurfaceHit hit;
+    for (int crossings = 0; crossings < 10000 && scene.intersect(ray, INFINITY, hit); ++crossings) {
+        const double ior = solidIndexOf(scene, hit.object);
+        if (ior > 0 && !met[size_t(hit.object)]) {
+            met[size_t(hit.object)] = true;
+            if (hit.geometricNormal.dot(direction) > 0) interiors.record(hit.object, ior, true);
+        }
+        ray.origin = hit.position + rayOffset(hit.position) * direction;
+    }
+    return interiors;
 }
 
 double pixelSpreadAngle(const Scene& scene) {

@@ -7,6 +7,7 @@
 #include <memory>
 
 #include "renderer/color.h"
+#include "renderer/interior_stack.h"
 #include "renderer/registry.h"
 #include "renderer/sampling/sampler.h"
 #include "renderer/sampling/sampling.h"
@@ -54,6 +55,23 @@ RGB shadowRayWeight(const Scene& scene, const Vec3& p, const Vec3& ng, const Lig
 /// textures look up. `footprint` is the world-space width a pixel covers
 /// there.
 ShadingPoint shadingPointOf(const Scene& scene, const SurfaceHit& hit, const Vec3& wo, double footprint = 0.0);
+/// The shading point delta lobes are drawn at: `sp`, or `sp` with its
+/// geometric normal for shading normal when wo is behind the shading
+/// normal or a lobe about it would leave through the other side of the
+/// surface. Shading
+/// normals of a polygonized crease lean far from its faces; glass there
+/// would otherwise refract light into the side it came from, or lose it.
+ShadingPoint deltaShadingPoint(const BSDF& bsdf, const ShadingPoint& sp, const Vec3& wo);
+/// The next surface along a path's ray. A hit on a solid the path has met
+/// before, from the side the path is not on (entering a solid it is in, or
+/// leaving one it is not in), is no crossing: the ray passes through it.
+bool nextSurface(const Scene& scene, const Ray& ray, const InteriorStack& interiors, SurfaceHit& hit);
+/// The solids `point` is inside (for paths that start there: the camera).
+InteriorStack interiorsAt(const Scene& scene, const Vec3& point);
+/// Records in `interiors` the side of a solid's surface a path leaving
+/// `sp` along wi is on.
+void recordSide(const Scene& scene, const SurfaceHit& hit, const ShadingPoint& sp, const Vec3& wi,
+                InteriorStack& interiors);
 /// Width of a pixel's footprint per unit of path length (the camera's
 /// spread angle per pixel; ray cones without curvature).
 double pixelSpreadAngle(const Scene& scene);

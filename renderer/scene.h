@@ -12,6 +12,7 @@
 #include "geometry/tracing/implicit_surface.h"
 #include "renderer/camera.h"
 #include "renderer/image/film.h"
+#include "renderer/interior_stack.h"
 #include "renderer/light.h"
 #include "renderer/light_sampler.h"
 #include "renderer/material.h"
@@ -81,6 +82,9 @@ public:
     std::vector<PlaneMirror> planeMirrors;
     /// Chooses lights for next-event estimation (built with the scene).
     LightSampler lightSampler;
+    /// The solids around the camera, where every camera path starts
+    /// (set by SceneBuilder::build).
+    InteriorStack cameraInteriors;
     /// Things a user should hear about that are not errors (an empty mesh).
     std::vector<std::string> warnings;
 

@@ -3,6 +3,7 @@
 #include <stdexcept>
 #include <type_traits>
 
+#include "renderer/integrator.h"
 #include "renderer/object_lights.h"
 
 namespace isotrace {
@@ -139,6 +140,7 @@ std::unique_ptr<Scene> SceneBuilder::build() {
     }
     addMirrorImages(*scene_);
     scene_->lightSampler = LightSampler(scene_->lights);
+    scene_->cameraInteriors = interiorsAt(*scene_, scene_->camera.from);
     return std::move(scene_);
 }
 

@@ -21,13 +21,19 @@ struct Span {
     int enterLeaf, leaveLeaf;
 };
 
+// A ray that passes within the trace's resolution of an edge or a point
+// where two solids touch (a concave edge of a difference, spheres side by
+// side) crosses nothing there: spans and gaps that short, between two
+// surfaces, are rounding, not a way out of the solid and back.
 struct SpanList {
     std::array<Span, kMaxSpans> spans;
     int count = 0;
     bool overflow = false;
+    double resolution = 0.0;  ///< in t
 
     void push(const Span& s) {
         if (!(s.enter < s.leave)) return;  // a ray touching a surface does not enter
+        if (s.enterLeaf >= 0 && s.leaveLeaf >= 0 && !(s.leave - s.enter > resolution)) return;
         if (count == kMaxSpans) overflow = true;
         else spans[count++] = s;
     }
@@ -38,7 +44,7 @@ void unite(const SpanList& a, const SpanList& b, SpanList& out) {
     int i = 0, j = 0;
     while (i < a.count || j < b.count) {
         const Span& next = j == b.count || (i < a.count && a.spans[i].enter <= b.spans[j].enter) ? a.spans[i++] : b.spans[j++];
-        if (out.count > 0 && next.enter <= out.spans[out.count - 1].leave) {
+        if (out.count > 0 && next.enter <= out.spans[out.count - 1].leave + out.resolution) {
             Span& last = out.spans[out.count - 1];
             if (next.leave > last.leave) last.leave = next.leave, last.leaveLeaf = next.leaveLeaf;
         } else {
@@ -89,6 +95,7 @@ public:
         CellTraceResult r;
         if (!(t1 > t0)) return r;
         std::array<SpanList, kMaxInstructions> slot;
+        for (SpanList& list : slot) list.resolution = settings.epsilon / direction.norm();
         for (size_t i = 0; i < code_.size(); ++i) {
             const FieldInstruction& in = code_[i];
             switch (in.op) {

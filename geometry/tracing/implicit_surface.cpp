@@ -258,10 +258,14 @@ TraceResult ImplicitSurface::intersectCell(uint32_t index, const Vec3& origin, c
     // A surface on the face the ray enters the cell by lies inside no cell:
     // the segment starts a resolution step before the face (the cell's
     // Lipschitz bound covers that margin), and a crossing there is reported
-    // on the face.
+    // on the face. Not for a ray through an edge or a corner that only
+    // touches the cell: the cells it passes through see that point, and
+    // the margin would reach into them and see the solid the ray comes
+    // from as a surface.
+    const double resolution = settings_.epsilon / direction.norm();
     const double entry = t0;
-    if (t0 > tNear && (cell.tracer < 0 || tracers_[cell.tracer]->tracesFromBeforeItsPart()))
-        t0 = std::max(tNear, t0 - settings_.epsilon / direction.norm());
+    if (t0 > tNear && t1 - t0 >= resolution && (cell.tracer < 0 || tracers_[cell.tracer]->tracesFromBeforeItsPart()))
+        t0 = std::max(tNear, t0 - resolution);
     const FieldProgram& program = programs_[cell.program];
     TraceResult r;
     TraceSettings settings = settings_;

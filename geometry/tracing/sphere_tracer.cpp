@@ -54,7 +54,19 @@ TraceResult sphereTrace(const FieldProgram& field, double lipschitz, const Vec3&
         result.evaluations = static_cast<uint64_t>(steps) * cost;
         return result;
     };
-    if (f == 0.0) return finish(true, t);
+    if (f == 0.0) {
+        // Starting on a zero: a crossing only if the field changes sign
+        // there (see touched zeros below); the cell's bounds hold a
+        // resolution step around its segment.
+        double unused = 0.0;
+        const double before = field.valueAndSafeDistance(origin + (t - minStep) * direction, unused);
+        const double after = field.valueAndSafeDistance(origin + (t + minStep) * direction, safe);
+        steps += 2;
+        if (before == 0.0 || after == 0.0 || differentSigns(before, after)) return finish(true, t);
+        t += minStep;
+        if (t >= tEnd) return finish(false, 0.0);
+        f = after;
+    }
 
     // Over-relaxed steps (Keinert et al. 2014) go omega times past the ball
     // proven free of zeros around t. The step stands only when the ball
@@ -83,7 +95,21 @@ TraceResult sphereTrace(const FieldProgram& field, double lipschitz, const Vec3&
                 omega = 1.0;
             }
         }
-        if (fNext == 0.0) return finish(true, tNext);
+        if (fNext == 0.0) {
+            // A zero with the same sign on both sides is touched, not
+            // crossed: a ray through a concave edge of a CSG solid, or
+            // tangent to a surface, stays on its side.
+            const double tBeyond = tNext + minStep;
+            double safeBeyond = 0.0;
+            const double fBeyond = field.valueAndSafeDistance(origin + tBeyond * direction, safeBeyond);
+            ++steps;
+            if (fBeyond == 0.0 || differentSigns(f, fBeyond)) return finish(true, tNext);
+            if (tBeyond >= tEnd) return finish(false, 0.0);
+            t = tBeyond;
+            f = fBeyond;
+            safe = safeBeyond;
+            continue;
+        }
         if (differentSigns(f, fNext)) {
             // An occlusion query needs no more than the bracket.
             if (settings.anyHit) return finish(true, 0.5 * (t + tNext));

@@ -38,15 +38,16 @@ public:
         // Distance travelled, for the pixel footprint textures filter over.
         double pathLength = 0.0;
         const double spread = pixelSpreadAngle(scene);
+        InteriorStack interiors = scene.cameraInteriors;
 
         for (int depth = 0;; ++depth) {
             SurfaceHit hit;
-            if (!scene.intersect(ray, INFINITY, hit)) {
+            if (!nextSurface(scene, ray, interiors, hit)) {
                 if (scene.environmentLight >= 0) {
                     const Light& env = *lights[scene.environmentLight];
                     const double lightPdf = env.pdf(previous, ray.direction, {}, {}) * scene.lightSampler.pmf(previous, scene.environmentLight, previousImportance);
                     const double w = countEmissionFully ? 1.0 : powerHeuristic(bsdfPdf, lightPdf);
-                    L += beta * w * env.escapedRadiance(ray.direction);
+                    L += beta * (w * interiors.radianceScale()) * env.escapedRadiance(ray.direction);
                 }
                 break;
             }
@@ -83,8 +84,10 @@ public:
             const Vec3& ns = sp.shadingNormal;
 
             if (bsdf.isDeltaOnly()) {
-                const std::optional<BSDFSample> s = bsdf.sample(sp, wo, sampler);
-                if (!s || !sameSide(ng, ns, s->wi)) break;
+                const ShadingPoint deltaSp = deltaShadingPoint(bsdf, sp, wo);
+                const std::optional<BSDFSample> s = bsdf.sample(deltaSp, wo, sampler);
+                if (!s || !sameSide(ng, deltaSp.shadingNormal, s->wi)) break;
+                recordSide(scene, hit, sp, s->wi, interiors);
                 viaMirror = countEmissionFully ? -1 : object.planeMirror;
                 directionAtPrevious = ray.direction;
                 beta *= s->weight;
@@ -119,6 +122,7 @@ public:
             // Continue the path by sampling the BSDF.
             const std::optional<BSDFSample> s = bsdf.sample(sp, wo, sampler);
             if (!s || !sameSide(ng, ns, s->wi)) break;
+            recordSide(scene, hit, sp, s->wi, interiors);
             beta *= s->weight;
             etaScale *= s->etaRatio * s->etaRatio;
             bsdfPdf = s->pdf;
@@ -150,8 +154,8 @@ std::unique_ptr<Integrator> makePathIntegrator(int maxDepth, int russianRoulette
 }
 
 std::unique_ptr<Integrator> readPathIntegrator(geometry::JsonObjectReader& r) {
-    const int maxDepth = static_cast<int>(r.integer("max_depth", 8, 1, 1000));
-    const int rrDepth = static_cast<int>(r.integer("rr_depth", 3, 1, 1000));
+    const int maxDepth = static_cast<int>(r.integer("max_depth", 8, 1, 100000));
+    const int rrDepth = static_cast<int>(r.integer("rr_depth", 3, 1, 100000));
     return makePathIntegrator(maxDepth, rrDepth);
 }
 

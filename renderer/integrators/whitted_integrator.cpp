@@ -16,7 +16,7 @@ public:
     const char* typeName() const override { return "whitted"; }
 
     RGB radiance(const Scene& scene, const Ray& cameraRay, Sampler& sampler) const override {
-        return traced(scene, cameraRay, RGB::Ones(), 0, sampler);
+        return traced(scene, cameraRay, RGB::Ones(), 0, scene.cameraInteriors, sampler);
     }
 
 private:
@@ -24,12 +24,13 @@ private:
     // follows both its reflection and its refraction, as Whitted did);
     // branches whose weight falls below 1e-3 are dropped (Hall's adaptive
     // depth control), so the recursion stays small.
-    RGB traced(const Scene& scene, const Ray& ray, const RGB& beta, int depth, Sampler& sampler) const {
+    RGB traced(const Scene& scene, const Ray& ray, const RGB& beta, int depth, const InteriorStack& interiors,
+               Sampler& sampler) const {
         RGB L = RGB::Zero();
         SurfaceHit hit;
-        if (!scene.intersect(ray, INFINITY, hit)) {
+        if (!nextSurface(scene, ray, interiors, hit)) {
             if (scene.environmentLight >= 0)
-                L += beta * scene.lights[scene.environmentLight]->escapedRadiance(ray.direction);
+                L += beta * interiors.radianceScale() * scene.lights[scene.environmentLight]->escapedRadiance(ray.direction);
             return L;
         }
         const Material& material = scene.materials[scene.objects[hit.object].material];
@@ -43,11 +44,15 @@ private:
         const Vec3& ns = sp.shadingNormal;
 
         BSDFSample lobes[2];
-        const int count = depth < maxDepth_ ? bsdf.deltaLobes(sp, wo, lobes) : 0;
+        const ShadingPoint deltaSp = deltaShadingPoint(bsdf, sp, wo);
+        const int count = depth < maxDepth_ ? bsdf.deltaLobes(deltaSp, wo, lobes) : 0;
         for (int i = 0; i < count; ++i) {
             const RGB weight = beta * lobes[i].weight;
-            if (weight.maxCoeff() < 1e-3 || ng.dot(lobes[i].wi) * ns.dot(lobes[i].wi) <= 0) continue;
-            L += traced(scene, {offsetOrigin(hit.position, ng, lobes[i].wi), lobes[i].wi}, weight, depth + 1, sampler);
+            if (weight.maxCoeff() < 1e-3 || ng.dot(lobes[i].wi) * deltaSp.shadingNormal.dot(lobes[i].wi) <= 0) continue;
+            InteriorStack after = interiors;
+            recordSide(scene, hit, sp, lobes[i].wi, after);
+            L += traced(scene, {offsetOrigin(hit.position, ng, lobes[i].wi), lobes[i].wi}, weight, depth + 1, after,
+                        sampler);
         }
         if (bsdf.isDeltaOnly()) return L;
 

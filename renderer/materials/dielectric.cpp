@@ -112,6 +112,7 @@ public:
         return 2;
     }
     RGB albedo(const ShadingPoint& p) const override { return transmittance_.at(p); }
+    double solidIndex() const override { return thin_ ? 0.0 : ior_; }
 
 private:
     static double square(double x) { return x * x; }

@@ -196,3 +196,32 @@ TEST(ImplicitSurface, FacesOnCellBoundariesAreHit) {
             EXPECT_NEAR(side.t, c.start, 1e-5) << "accelerated " << accelerated;
         }
 }
+
+TEST(ImplicitSurface, RaysThroughAConcaveEdgeCrossNothingThere) {
+    // The cut's faces x = 0 and y = 0 meet along the z axis, which is also
+    // where octree cells meet. A ray from inside the solid through that
+    // edge, from the quadrant x > 0, y < 0 to x < 0, y > 0, stays in the
+    // solid: its first surface is the sphere, not the edge. The same ray
+    // from the cut-away quadrant's side enters the solid at the edge.
+    const char* field = R"({"type": "difference", "of": [{"type": "sphere", "radius": 1},
+                           {"type": "box", "center": [0.5, 0.5, 0.5], "size": [1, 1, 1]}]})";
+    for (const bool accelerated : {true, false}) {
+        ImplicitSurfaceOptions options;
+        if (!accelerated) options.cellAccelerators.clear();
+        ImplicitSurface surface(isotrace::testing::compileField(field), options);
+        isotrace::testing::EmbreeScene scene;
+        scene.attach(surface);
+        scene.commit();
+        for (const double z : {0.2, 0.5, 0.8}) {
+            for (const Vec3& across : {Vec3(-1, 1, 0), Vec3(-1, 1, 0.4), Vec3(-0.3, 1, -0.2)}) {
+                const Vec3 d = across.normalized();
+                const Vec3 origin = Vec3(0, 0, z) - 0.3 * d;
+                const isotrace::testing::EmbreeHit hit = scene.intersect(origin, d);
+                ASSERT_TRUE(hit.hit);
+                const Vec3 p = origin + hit.t * d;
+                EXPECT_NEAR(p.norm(), 1.0, 1e-4) << "accelerated " << accelerated << ", z " << z << ", hit at "
+                                                 << p.transpose();
+            }
+        }
+    }
+}
