@@ -4,11 +4,21 @@
 // faces reflect and transmit without bending the ray (windows, bubbles).
 // Which side is inside comes from the shading point: rays travelling inside
 // a solid see the inverse index. Refracted radiance carries 1 / eta^2.
+//
+// Rough glass adds back what single scattering between facets loses
+// (Kulla and Conty 2017) with reciprocal cosine-like lobes: on the side s
+// of wo, (1 - E_s(mu_o)) (1 - E_s'(mu_i)) times a constant per pair of
+// sides, E_s being the single-scattering albedo seen from s. The constants
+// make the albedo 1 from both sides at once; of the light it adds from
+// outside, the share 1 - F_avg (the smooth interface's) is refracted.
+#include <algorithm>
 #include <cmath>
+#include <numbers>
 
 #include "renderer/fresnel.h"
 #include "renderer/material.h"
 #include "renderer/microfacet.h"
+#include "renderer/microfacet_albedo.h"
 #include "renderer/sampling/sampling.h"
 
 namespace isotrace {
@@ -17,10 +27,12 @@ namespace {
 
 class DielectricBSDF final : public BSDF {
 public:
-    DielectricBSDF(double ior, ScalarParameter roughness, ColorParameter transmittance, bool thin)
+    DielectricBSDF(double ior, ScalarParameter roughness, ColorParameter transmittance, bool thin,
+                   bool multipleScattering)
         : ior_(ior), roughness_(std::move(roughness)), transmittance_(std::move(transmittance)), thin_(thin) {
         const double alpha = TrowbridgeReitz::alphaFromRoughness(roughness_.maximum());
         smooth_ = thin_ || TrowbridgeReitz(alpha, alpha).effectivelySmooth();
+        if (!smooth_ && multipleScattering && ior_ != 1.0) albedo_ = dielectricAlbedo(ior_);
     }
 
     uint32_t flags() const override {
@@ -31,12 +43,15 @@ public:
     RGB evaluate(const ShadingPoint& p, const Vec3& woWorld, const Vec3& wiWorld) const override {
         if (smooth_) return RGB::Zero();
         const Frame frame(p.shadingNormal);
-        return roughLobe(p, frame.toLocal(woWorld), frame.toLocal(wiWorld), distribution(p)).value;
+        const Vec3 wo = frame.toLocal(woWorld), wi = frame.toLocal(wiWorld);
+        return roughLobe(p, wo, wi, distribution(p)).value + multipleLobe(p, wo).value(p, wi, transmittance_);
     }
     double pdf(const ShadingPoint& p, const Vec3& woWorld, const Vec3& wiWorld) const override {
         if (smooth_) return 0.0;
         const Frame frame(p.shadingNormal);
-        return roughLobe(p, frame.toLocal(woWorld), frame.toLocal(wiWorld), distribution(p)).pdf;
+        const Vec3 wo = frame.toLocal(woWorld), wi = frame.toLocal(wiWorld);
+        const MultipleLobe multiple = multipleLobe(p, wo);
+        return (1.0 - multiple.probability) * roughLobe(p, wo, wi, distribution(p)).pdf + multiple.pdf(wi);
     }
     std::optional<BSDFSample> sample(const ShadingPoint& p, const Vec3& woWorld, Sampler& sampler) const override {
         const double uChoice = sampler.get1D();
@@ -61,25 +76,34 @@ public:
         if (!(wo.z() > 0)) return std::nullopt;
         const double eta = relativeIndex(p);
         const TrowbridgeReitz d = distribution(p);
-        const Vec3 m = d.sampleVisibleNormal(wo, u);
-        const double F = fresnelDielectric(wo.dot(m), eta);
+        const MultipleLobe multiple = multipleLobe(p, wo);
         Vec3 wi;
-        if (uChoice < F) {
-            wi = reflect(-wo, m);
-            if (!(wi.z() > 0)) return std::nullopt;
+        if (uChoice < multiple.probability) {
+            // The multiple-scattering lobes: refracted with their share.
+            const double v = uChoice / multiple.probability;
+            wi = sampleCosineHemisphere(Vec3(0, 0, 1), u);
+            if (v < multiple.refractedShare) wi.z() = -wi.z();
         } else {
-            const std::optional<Vec3> t = refract(wo, m, eta);
-            if (!t || !(t->z() < 0)) return std::nullopt;
-            wi = *t;
+            const double v = (uChoice - multiple.probability) / (1.0 - multiple.probability);
+            const Vec3 m = d.sampleVisibleNormal(wo, u);
+            const double F = fresnelDielectric(wo.dot(m), eta);
+            if (v < F) {
+                wi = reflect(-wo, m);
+                if (!(wi.z() > 0)) return std::nullopt;
+            } else {
+                const std::optional<Vec3> t = refract(wo, m, eta);
+                if (!t || !(t->z() < 0)) return std::nullopt;
+                wi = *t;
+            }
         }
         // Value and density of the pair in one pass, with this frame and
         // distribution (the roughness texture looked up once).
         const RoughLobe lobe = roughLobe(p, wo, wi, d);
-        if (!(lobe.pdf > 0)) return std::nullopt;
         BSDFSample s;
         s.wi = frame.toWorld(wi);
-        s.pdf = lobe.pdf;
-        s.weight = lobe.value * (std::abs(wi.z()) / s.pdf);
+        s.pdf = (1.0 - multiple.probability) * lobe.pdf + multiple.pdf(wi);
+        if (!(s.pdf > 0)) return std::nullopt;
+        s.weight = (lobe.value + multiple.value(p, wi, transmittance_)) * (std::abs(wi.z()) / s.pdf);
         s.etaRatio = wi.z() < 0 ? eta : 1.0;
         return s;
     }
@@ -116,6 +140,62 @@ public:
 
 private:
     static double square(double x) { return x * x; }
+
+    /// The multiple-scattering lobes seen from wo, on wo's side ("here")
+    /// and across ("there").
+    struct MultipleLobe {
+        const DielectricAlbedo* albedo = nullptr;
+        bool outside = true;
+        double roughness = 0.0;
+        double reflected = 0.0, refracted = 0.0;  ///< value before (1 - E(mu_i)) of each
+        double probability = 0.0;                 ///< of sampling them
+        double refractedShare = 0.0;              ///< of those samples
+        const MicrofacetAlbedoTable& table(bool outsideSide) const {
+            return outsideSide ? albedo->outside : albedo->inside;
+        }
+        RGB value(const ShadingPoint& p, const Vec3& wi, const ColorParameter& transmittance) const {
+            if (!albedo || wi.z() == 0) return RGB::Zero();
+            const double mu = std::abs(wi.z());
+            if (wi.z() > 0) return RGB::Constant(reflected * (1.0 - table(outside).at(mu, roughness)));
+            return transmittance.at(p) * (refracted * (1.0 - table(!outside).at(mu, roughness)));
+        }
+        double pdf(const Vec3& wi) const {
+            if (!(probability > 0)) return 0.0;
+            const double share = wi.z() > 0 ? 1.0 - refractedShare : refractedShare;
+            return probability * share * std::abs(wi.z()) / std::numbers::pi;
+        }
+    };
+    MultipleLobe multipleLobe(const ShadingPoint& p, const Vec3& wo) const {
+        MultipleLobe lobe;
+        if (!albedo_) return lobe;
+        const double r = roughness_.at(p);
+        const double lostOutside = 1.0 - albedo_->outside.average(r), lostInside = 1.0 - albedo_->inside.average(r);
+        if (!(lostOutside > 1e-6 && lostInside > 1e-6)) return lobe;
+        // Shares refracted of what is added back, from each side: energy
+        // from inside is 1 when c_Ri pi lostInside + c_T pi lostOutside = 1,
+        // from outside when c_Ro pi lostOutside + n^2 c_T pi lostInside = 1,
+        // with c_T the constant of refraction from outside (reciprocity
+        // makes the other n^2 c_T).
+        const double n2 = ior_ * ior_;
+        double shareOutside = 1.0 - albedo_->fresnelAverageOutside;
+        double shareInside = shareOutside * lostOutside / (n2 * lostInside);
+        if (shareInside > 1.0) {
+            shareOutside /= shareInside;
+            shareInside = 1.0;
+        }
+        const double pi = std::numbers::pi;
+        const double cT = shareOutside / (n2 * pi * lostInside);
+        const double lostHere = 1.0 - (p.outside ? albedo_->outside : albedo_->inside).at(wo.z(), r);
+        lobe.albedo = albedo_.get();
+        lobe.outside = p.outside;
+        lobe.roughness = r;
+        lobe.reflected = lostHere * (p.outside ? (1.0 - shareOutside) / (pi * lostOutside)
+                                               : (1.0 - shareInside) / (pi * lostInside));
+        lobe.refracted = lostHere * (p.outside ? cT : n2 * cT);
+        lobe.probability = std::clamp(lostHere, 0.0, 1.0);
+        lobe.refractedShare = p.outside ? shareOutside : shareInside;
+        return lobe;
+    }
     /// The index across the surface over the index on wo's side.
     double relativeIndex(const ShadingPoint& p) const { return p.outside ? ior_ : 1.0 / ior_; }
     TrowbridgeReitz distribution(const ShadingPoint& p) const {
@@ -166,6 +246,7 @@ private:
     ColorParameter transmittance_;
     bool thin_;
     bool smooth_ = true;
+    std::shared_ptr<const DielectricAlbedo> albedo_;  ///< with multiple scattering
 };
 
 }  // namespace
@@ -178,8 +259,9 @@ Material readDielectricMaterial(geometry::JsonObjectReader& r, const MaterialCon
     ScalarParameter roughness = readScalarParameter(r, "roughness", 0.0, context, 0.0, 1.0);
     if (thin && roughness.maximum() > 0) r.fail("roughness", "a thin dielectric is smooth: roughness must be 0");
     Material m;
-    m.bsdf = std::make_shared<DielectricBSDF>(
-        ior, std::move(roughness), readColorParameter(r, "transmittance", RGB::Ones(), context, 0.0, 1.0), thin);
+    ColorParameter transmittance = readColorParameter(r, "transmittance", RGB::Ones(), context, 0.0, 1.0);
+    m.bsdf = std::make_shared<DielectricBSDF>(ior, std::move(roughness), std::move(transmittance), thin,
+                                              r.boolean("multiple_scattering", true));
     return m;
 }
 

@@ -6,13 +6,18 @@
 //   f_diffuse = (1 - F(wi)) (1 - F(wo)) albedo / (pi eta^2 (1 - Fdr_inside)),
 // Fdr_inside being the coat's internal diffuse reflectance. A white smooth
 // plastic reflects all light exactly (eta^2 (1 - Fdr_inside) = 1 - Fdr_outside);
-// a rough one loses what its microfacets lose.
+// a rough one loses what its microfacets lose. With multiple scattering
+// (the default), the rough coat's own albedo C(mu), which its single-
+// scattering facets make less than F(mu), takes F's place:
+//   f_diffuse = (1 - C(wi)) (1 - C(wo)) albedo / (pi (1 - C_avg)),
+// so a white rough plastic reflects all light too.
 #include <cmath>
 #include <numbers>
 
 #include "renderer/fresnel.h"
 #include "renderer/material.h"
 #include "renderer/microfacet.h"
+#include "renderer/microfacet_albedo.h"
 #include "renderer/sampling/sampling.h"
 
 namespace isotrace {
@@ -21,11 +26,12 @@ namespace {
 
 class PlasticBSDF final : public BSDF {
 public:
-    PlasticBSDF(ColorParameter albedo, double ior, ScalarParameter roughness)
+    PlasticBSDF(ColorParameter albedo, double ior, ScalarParameter roughness, bool multipleScattering)
         : albedo_(std::move(albedo)), ior_(ior), roughness_(std::move(roughness)) {
         const double alpha = TrowbridgeReitz::alphaFromRoughness(roughness_.maximum());
         smooth_ = TrowbridgeReitz(alpha, alpha).effectivelySmooth();
         diffuseScale_ = 1.0 / (ior_ * ior_ * (1.0 - fresnelDiffuseReflectance(1.0 / ior_)));
+        if (!smooth_ && multipleScattering) coatAlbedo_ = dielectricAlbedo(ior_);
     }
 
     uint32_t flags() const override {
@@ -99,6 +105,12 @@ private:
         return TrowbridgeReitz(alpha, alpha);
     }
     RGB diffuse(const ShadingPoint& p, const Vec3& wo, const Vec3& wi) const {
+        if (coatAlbedo_) {
+            const MicrofacetAlbedoTable& coat = coatAlbedo_->reflectedOutside;
+            const double r = roughness_.at(p);
+            const double through = (1.0 - coat.at(wi.z(), r)) * (1.0 - coat.at(wo.z(), r));
+            return albedo_.at(p) * (through / (std::numbers::pi * (1.0 - coat.average(r))));
+        }
         const double through = (1.0 - fresnelDielectric(wi.z(), ior_)) * (1.0 - fresnelDielectric(wo.z(), ior_));
         return albedo_.at(p) * (through * diffuseScale_ / std::numbers::pi);
     }
@@ -125,6 +137,7 @@ private:
     ScalarParameter roughness_;
     bool smooth_ = true;
     double diffuseScale_ = 1.0;  ///< 1 / (eta^2 (1 - Fdr_inside))
+    std::shared_ptr<const DielectricAlbedo> coatAlbedo_;  ///< with multiple scattering
 };
 
 }  // namespace
@@ -135,8 +148,9 @@ Material readPlasticMaterial(geometry::JsonObjectReader& r, const MaterialContex
     if (!(ior > 1) || !std::isfinite(ior)) r.fail("ior", "the coat's index of refraction must be above 1");
     if (ior > 10) r.fail("ior", "must be at most 10 (diamond is 2.42)");
     Material m;
-    m.bsdf = std::make_shared<PlasticBSDF>(std::move(albedo), ior,
-                                           readScalarParameter(r, "roughness", 0.0, context, 0.0, 1.0));
+    ScalarParameter roughness = readScalarParameter(r, "roughness", 0.0, context, 0.0, 1.0);
+    m.bsdf = std::make_shared<PlasticBSDF>(std::move(albedo), ior, std::move(roughness),
+                                           r.boolean("multiple_scattering", true));
     return m;
 }
 

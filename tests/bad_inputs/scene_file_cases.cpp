@@ -176,6 +176,7 @@ std::vector<BadInputCase> sceneFileCases() {
         {"conductor_eta_zero", "/materials/clay", R"({"type": "conductor", "eta": [0, 1, 1], "k": [1, 1, 1]})"},
         {"conductor_k_negative", "/materials/clay", R"({"type": "conductor", "eta": [1, 1, 1], "k": [-1, 1, 1]})"},
         {"conductor_roughness_above_one", "/materials/clay", R"({"type": "conductor", "roughness": 1.5})"},
+        {"conductor_multiple_scattering_text", "/materials/clay", R"({"type": "conductor", "roughness": 0.5, "multiple_scattering": "yes"})"},
         {"dielectric_ior_zero", "/materials/clay", R"({"type": "dielectric", "ior": 0})"},
         {"dielectric_ior_eleven", "/materials/clay", R"({"type": "dielectric", "ior": 11})"},
         {"dielectric_roughness_negative", "/materials/clay", R"({"type": "dielectric", "roughness": -0.1})"},
