@@ -55,65 +55,89 @@ private:
 /// A latitude-longitude map: column u at azimuth phi = 2 pi (u - 1/2) with
 /// u = 1/2 straight ahead along -z (what the default camera looks at) and
 /// +x at u = 3/4; row v at polar angle theta = pi v from +y. Bilinear
-/// lookups; directions are sampled by texel luminance (the brightest of a
-/// texel's neighbourhood) times sin theta (a texel's solid angle), with the
-/// density converted to solid angle.
+/// lookups between texel centres.
+///
+/// Directions are sampled in proportion to that bilinear radiance. The
+/// cells of the sampling grid lie between texel centres, where the lookup
+/// is one bilinear patch of four texels; a cell is chosen by its patch's
+/// mean luminance times its solid angle, and a direction within it from the
+/// patch itself (sampleBilinear), taken across the cell in azimuth and in
+/// cos theta, so that the density is the patch's over the cell's solid
+/// angle. A sharp-edged sun is then sampled as the lookup ramps it off; a
+/// density constant per texel left a ramp's samples weights from half to
+/// twice their mean, and uniform in theta it grew as 1 / sin theta towards
+/// the zenith, where a high sun sits.
 class EnvironmentMapLight final : public Light {
 public:
     EnvironmentMapLight(std::vector<float> texels, int width, int height, double scale, const Mat3& worldFromMap)
         : texels_(std::move(texels)), width_(width), height_(height), scale_(scale),
           worldFromMap_(worldFromMap), mapFromWorld_(worldFromMap.transpose()) {
-        std::vector<double> weights(size_t(width) * height);
         double meanLuminance = 0.0, solidAngle = 0.0;
         mean_ = RGB::Zero();
-        auto luminanceAt = [&](int x, int y) {
-            x = ((x % width) + width) % width;
-            y = std::clamp(y, 0, height - 1);
-            const float* t = &texels_[3 * (size_t(y) * width + x)];
-            return luminance(RGB(t[0], t[1], t[2]));
-        };
         for (int y = 0; y < height; ++y) {
-            const double sinTheta = std::sin(std::numbers::pi * (y + 0.5) / height);
+            const double rowSolidAngle = 2.0 * std::numbers::pi / width *
+                                         (std::cos(std::numbers::pi * y / height) - std::cos(std::numbers::pi * (y + 1) / height));
             for (int x = 0; x < width; ++x) {
-                const float* t = &texels_[3 * (size_t(y) * width + x)];
-                const RGB c(t[0], t[1], t[2]);
-                // Bilinear lookups reach half a texel into the neighbours:
-                // weigh a texel by the brightest around it, so every direction
-                // that receives light can be sampled (no fireflies left to
-                // BSDF sampling at a bright texel's edge).
-                double brightest = 0.0;
-                for (int dy = -1; dy <= 1; ++dy)
-                    for (int dx = -1; dx <= 1; ++dx) brightest = std::max(brightest, luminanceAt(x + dx, y + dy));
-                weights[size_t(y) * width + x] = brightest * sinTheta;
-                mean_ += c * sinTheta;
-                meanLuminance += luminance(c) * sinTheta;
-                solidAngle += sinTheta;
+                const RGB c = texel(x, y);
+                mean_ += c * rowSolidAngle;
+                meanLuminance += luminance(c) * rowSolidAngle;
+                solidAngle += rowSolidAngle;
             }
         }
         mean_ *= scale_ / solidAngle;
         meanLuminance_ = scale_ * meanLuminance / solidAngle;
-        distribution_ = PiecewiseConstant2D(weights, width, height);
+        // Cell (i, j): from texel centre column i to i + 1 (wrapping), from
+        // texel centre row j - 1 to j (rows -1 and height being the poles).
+        cellEdgeCosines_.resize(size_t(height) + 2);
+        cellEdgeCosines_.front() = 1.0;
+        cellEdgeCosines_.back() = -1.0;
+        for (int j = 1; j <= height; ++j) cellEdgeCosines_[size_t(j)] = std::cos(std::numbers::pi * (j - 0.5) / height);
+        std::vector<double> weights(size_t(width) * (height + 1));
+        for (int j = 0; j <= height; ++j) {
+            const double cellSolidAngle = cosAtCellEdge(j) - cosAtCellEdge(j + 1);
+            for (int i = 0; i < width; ++i) {
+                const Corners c = corners(i, j);
+                weights[size_t(j) * width + i] = 0.25 * (c.a00 + c.a10 + c.a01 + c.a11) * cellSolidAngle;
+            }
+        }
+        distribution_ = PiecewiseConstant2D(weights, width, height + 1);
     }
 
     bool isInfinite() const override { return true; }
 
     LightSample sample(const LightSampleContext& context, const Eigen::Vector2d& u) const override {
         LightSample s;
-        double pdfUV = 0.0;
-        const Eigen::Vector2d uv = distribution_.sample(u, pdfUV);
-        const double theta = std::numbers::pi * uv.y(), phi = 2.0 * std::numbers::pi * (uv.x() - 0.5);
-        const double sinTheta = std::sin(theta);
+        double pdfCells = 0.0;
+        const Eigen::Vector2d cell = distribution_.sample(u, pdfCells);
         s.distance = std::numeric_limits<double>::infinity();
-        if (!(pdfUV > 0) || !(sinTheta > 0)) return s;
-        s.direction = worldFromMap_ * Vec3(sinTheta * std::sin(phi), std::cos(theta), -sinTheta * std::cos(phi));
-        s.pdf = pdfUV / (2.0 * std::numbers::pi * std::numbers::pi * sinTheta);
+        if (!(pdfCells > 0)) return s;
+        // The place within the chosen cell is uniform: it drives the patch.
+        const double cx = cell.x() * width_, cy = cell.y() * (height_ + 1);
+        const int i = std::min(int(cx), width_ - 1), j = std::min(int(cy), height_);
+        const Corners c = corners(i, j);
+        const Eigen::Vector2d p = sampleBilinear({cx - i, cy - j}, c.a00, c.a10, c.a01, c.a11);
+        const double top = cosAtCellEdge(j), bottom = cosAtCellEdge(j + 1);
+        const double cosTheta = std::clamp(top + p.y() * (bottom - top), -1.0, 1.0);
+        const double sinTheta = std::sqrt(std::max(0.0, 1.0 - cosTheta * cosTheta));
+        const double phi = 2.0 * std::numbers::pi * ((i + 0.5 + p.x()) / width_ - 0.5);
+        s.direction = worldFromMap_ * Vec3(sinTheta * std::sin(phi), cosTheta, -sinTheta * std::cos(phi));
+        s.pdf = density(pdfCells, i, j, p, c);
         s.radiance = escapedRadiance(s.direction);
         return s;
     }
     double pdf(const LightSampleContext&, const Vec3& wi, const Vec3&, const Vec3&) const override {
-        const Eigen::Vector2d uv = mapCoordinates(wi);
-        const double sinTheta = std::sin(std::numbers::pi * uv.y());
-        return sinTheta > 0 ? distribution_.pdf(uv) / (2.0 * std::numbers::pi * std::numbers::pi * sinTheta) : 0.0;
+        const Vec3 d = (mapFromWorld_ * wi).normalized();
+        const double cosTheta = std::clamp(d.y(), -1.0, 1.0);
+        const double v = std::acos(cosTheta) / std::numbers::pi;
+        const int j = std::clamp(int(std::floor(v * height_ + 0.5)), 0, height_);
+        const double top = cosAtCellEdge(j), bottom = cosAtCellEdge(j + 1);
+        double x = (std::atan2(d.x(), -d.z()) / (2.0 * std::numbers::pi) + 0.5) * width_ - 0.5;
+        x -= std::floor(x / width_) * width_;  // into [0, width): cell columns wrap
+        const int i = std::min(int(x), width_ - 1);
+        const Eigen::Vector2d p(std::clamp(x - i, 0.0, 1.0),
+                                top > bottom ? std::clamp((top - cosTheta) / (top - bottom), 0.0, 1.0) : 0.5);
+        const double pdfCells = distribution_.pdf({(i + 0.5) / width_, (j + 0.5) / (height_ + 1)});
+        return density(pdfCells, i, j, p, corners(i, j));
     }
     RGB escapedRadiance(const Vec3& w) const override {
         // Bilinear between texel centres: wrapping around in u, clamped in v.
@@ -137,6 +161,34 @@ public:
     }
 
 private:
+    struct Corners {
+        double a00, a10, a01, a11;  ///< luminance at (column, row) offsets (0 or 1, 0 or 1)
+    };
+    RGB texel(int x, int y) const {
+        const float* t = &texels_[3 * (size_t(y) * width_ + x)];
+        return RGB(t[0], t[1], t[2]);
+    }
+    /// The four texels of cell (i, j)'s patch (clamped rows at the poles).
+    Corners corners(int i, int j) const {
+        const int x0 = i, x1 = (i + 1) % width_;
+        const int y0 = std::max(j - 1, 0), y1 = std::min(j, height_ - 1);
+        // From the texels themselves: the radiance lookup reads the same
+        // cache lines.
+        auto at = [&](int x, int y) { return luminance(texel(x, y)); };
+        return {at(x0, y0), at(x1, y0), at(x0, y1), at(x1, y1)};
+    }
+    /// cos theta at the top edge of cell row j (0 to height + 1): the
+    /// pole, a texel centre, the other pole.
+    double cosAtCellEdge(int j) const { return cellEdgeCosines_[size_t(j)]; }
+    /// The density in solid angle at place p of cell (i, j), whose cell
+    /// density over the unit square is pdfCells: the cell's probability,
+    /// spread over its solid angle as its patch is.
+    double density(double pdfCells, int i, int j, const Eigen::Vector2d& p, const Corners& c) const {
+        const double cellSolidAngle = 2.0 * std::numbers::pi / width_ * (cosAtCellEdge(j) - cosAtCellEdge(j + 1));
+        if (!(pdfCells > 0) || !(cellSolidAngle > 0)) return 0.0;
+        const double probability = pdfCells / (double(width_) * (height_ + 1));
+        return probability * bilinearPdf(p, c.a00, c.a10, c.a01, c.a11) / cellSolidAngle;
+    }
     Eigen::Vector2d mapCoordinates(const Vec3& world) const {
         const Vec3 d = (mapFromWorld_ * world).normalized();
         const double theta = std::acos(std::clamp(d.y(), -1.0, 1.0));
@@ -149,6 +201,7 @@ private:
     int width_, height_;
     double scale_;
     Mat3 worldFromMap_, mapFromWorld_;
+    std::vector<double> cellEdgeCosines_;
     PiecewiseConstant2D distribution_;
     RGB mean_ = RGB::Zero();
     double meanLuminance_ = 0.0;

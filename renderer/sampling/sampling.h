@@ -25,6 +25,15 @@ struct Frame {
 Vec3 sampleUniformSphere(const Eigen::Vector2d& u);
 /// Cosine-weighted direction around unit normal n (density cos / pi).
 Vec3 sampleCosineHemisphere(const Vec3& n, const Eigen::Vector2d& u);
+/// A point of [0, 1] with density proportional to (1 - x) a + x b
+/// (a, b >= 0, not both 0), by inverting its distribution.
+double sampleLinear(double u, double a, double b);
+/// A point of [0, 1]^2 with density proportional to the bilinear function
+/// with corner values a00 (0, 0), a10 (1, 0), a01 (0, 1), a11 (1, 1):
+/// the second coordinate from its marginal, then the first given it.
+Eigen::Vector2d sampleBilinear(const Eigen::Vector2d& u, double a00, double a10, double a01, double a11);
+/// The bilinear function's value at p over its mean: sampleBilinear's density.
+double bilinearPdf(const Eigen::Vector2d& p, double a00, double a10, double a01, double a11);
 /// Multiple importance sampling: Veach's power heuristic with exponent 2.
 inline double powerHeuristic(double a, double b) { return a * a / (a * a + b * b); }
 inline Vec3 reflect(const Vec3& d, const Vec3& n) { return d - 2.0 * d.dot(n) * n; }

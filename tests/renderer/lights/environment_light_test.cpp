@@ -61,6 +61,32 @@ TEST(EnvironmentMap, BrightBlockGivesItsClosedFormIrradiance) {
     EXPECT_NEAR(floorRadiance(*scene, 65536), expected, 0.01 * expected);
 }
 
+// A sun cap at the zenith (the top 4 rows of a 512x256 map: within 2.8
+// degrees) of radiance 2,000 over a sky of 0.5 and a black ground: the
+// irradiance on a floor is pi (S sin^2 theta_c + L cos^2 theta_c). The
+// bilinear ramp at the cap's edge is symmetric about it, where the cosine
+// weight is close to linear: it moves the integral by far less than the
+// tolerance. The cap's texels are those the old sampling, uniform in v
+// within a texel, weighted by 1 / sin theta.
+TEST(EnvironmentMap, SunCapAtTheZenithGivesItsClosedFormIrradiance) {
+    TemporaryFolder folder;
+    Image map;
+    map.width = 512;
+    map.height = 256;
+    for (int y = 0; y < map.height; ++y)
+        for (int x = 0; x < map.width; ++x) {
+            const float v = y < 4 ? 2000.0f : y < 128 ? 0.5f : 0.0f;
+            map.rgb.insert(map.rgb.end(), {v, v, v});
+        }
+    writeImage(folder.file("sun.exr"), map, {}, false);
+    const auto scene = floorUnder({{"type", "environment"}, {"file", folder.file("sun.exr")}});
+    const double capAngle = std::numbers::pi * 4 / 256;
+    const double irradiance = std::numbers::pi * (2000.0 * std::pow(std::sin(capAngle), 2) +
+                                                  0.5 * std::pow(std::cos(capAngle), 2));
+    const double expected = 0.5 / std::numbers::pi * irradiance;
+    EXPECT_NEAR(floorRadiance(*scene, 16384), expected, 0.005 * expected);
+}
+
 // A constant map and the constant environment light the floor alike (each
 // converges to rho L; the map's samples follow its texels, not the cosine).
 TEST(EnvironmentMap, ConstantMapMatchesTheConstantEnvironment) {
