@@ -4,7 +4,8 @@
 # default: this build), so that two versions are measured in one run:
 #   bash bench/light_efficiency.sh [ISOTRACE ...]
 # Scenes: a sphere on a floor under a small quad light
-# (bench/scenes/sphere_quad.json) and scenes/showcase.json, at 160x90.
+# (bench/scenes/sphere_quad.json), scenes/showcase.json and
+# scenes/environment.json (lit by a sky map with a small sun), at 160x90.
 # Each binary renders each scene 5 times with different seeds, against its
 # own converged render; the figure uses the median render seconds (the
 # renderer's own timing of the render phase) and the mean squared error
@@ -14,7 +15,7 @@ cd "$(dirname "$0")/.."
 binaries=("$@"); ((${#binaries[@]})) || binaries=(build/isotrace)
 scratch=$(mktemp -d); trap 'rm -rf "$scratch"' EXIT
 size=(--width 160 --height 90)
-for scene in bench/scenes/sphere_quad.json scenes/showcase.json; do
+for scene in bench/scenes/sphere_quad.json scenes/showcase.json scenes/environment.json; do
   name=$(basename "$scene" .json)
   for b in "${!binaries[@]}"; do
     bin=${binaries[$b]}
