@@ -4,6 +4,10 @@
 #include <cmath>
 #include <map>
 #include <mutex>
+#include <utility>
+#include <vector>
+
+#include <tbb/parallel_for.h>
 
 #include "renderer/fresnel.h"
 #include "renderer/microfacet.h"
@@ -57,18 +61,28 @@ double MicrofacetAlbedoTable::average(double roughness) const {
     return (1 - fy) * averages_[j] + fy * averages_[j + 1];
 }
 
-void MicrofacetAlbedoTable::fillAverages() {
-    // The average of the interpolant the lobes use (midpoint rule, fine
-    // enough that its error is far below the table's).
+int MicrofacetAlbedoTable::firstColumn(double lowest) {
+    return std::clamp(int(std::floor(std::clamp(lowest, 0.0, 1.0) * (kRoughnesses - 1))), 0, kRoughnesses - 2);
+}
+
+int MicrofacetAlbedoTable::lastColumn(double highest) {
+    return std::clamp(int(std::floor(std::clamp(highest, 0.0, 1.0) * (kRoughnesses - 1))) + 1, 1, kRoughnesses - 1);
+}
+
+void MicrofacetAlbedoTable::setColumn(int j, const std::array<double, kCosines>& values) {
+    for (int i = 0; i < kCosines; ++i) values_[index(i, j)] = values[size_t(i)];
+    // The average of the column's interpolant, which the lobes use
+    // (midpoint rule, fine enough that its error is far below the table's).
     const int cells = 512;
-    for (int j = 0; j < kRoughnesses; ++j) {
-        double sum = 0.0;
-        for (int c = 0; c < cells; ++c) {
-            const double mu = (c + 0.5) / cells;
-            sum += at(mu, nodeRoughness(j)) * 2.0 * mu;
-        }
-        averages_[j] = sum / cells;
+    double sum = 0.0;
+    for (int c = 0; c < cells; ++c) {
+        const double x = (c + 0.5) / cells * (kCosines - 1);
+        const int i = std::min(int(x), kCosines - 2);
+        const double f = x - i;
+        sum += ((1 - f) * values[size_t(i)] + f * values[size_t(i) + 1]) * 2.0 * (c + 0.5) / cells;
     }
+    averages_[size_t(j)] = sum / cells;
+    filled_[size_t(j)] = true;
 }
 
 double conductorAlbedoAt(double mu, double alpha, int strata) {
@@ -108,37 +122,65 @@ bool smoothNode(double roughness) { return alphaOfNode(roughness) < TrowbridgeRe
 
 }  // namespace
 
-const MicrofacetAlbedoTable& conductorAlbedo() {
-    static const MicrofacetAlbedoTable table = [] {
-        MicrofacetAlbedoTable t;
-        t.fill([](double mu, double r) { return smoothNode(r) ? 1.0 : conductorAlbedoAt(mu, alphaOfNode(r), kStrata); });
-        return t;
-    }();
+namespace {
+
+// Fills the missing columns of K tables that are filled together, for
+// roughness in [lowest, highest], from albedos(mu, r) (K values), in
+// parallel over columns and cosines. The caller holds the tables' lock.
+template <size_t K, class Albedos>
+void fillColumns(const std::array<MicrofacetAlbedoTable*, K>& tables, double lowest, double highest,
+                 Albedos&& albedos) {
+    std::vector<int> missing;
+    for (int j = MicrofacetAlbedoTable::firstColumn(lowest); j <= MicrofacetAlbedoTable::lastColumn(highest); ++j)
+        if (!tables[0]->hasColumn(j)) missing.push_back(j);
+    constexpr int n = MicrofacetAlbedoTable::kCosines;
+    std::vector<std::array<std::array<double, n>, K>> columns(missing.size());
+    tbb::parallel_for(size_t(0), missing.size() * n, [&](size_t k) {
+        const size_t c = k / n, i = k % n;
+        const std::array<double, K> values =
+            albedos(MicrofacetAlbedoTable::nodeCosine(int(i)), MicrofacetAlbedoTable::nodeRoughness(missing[c]));
+        for (size_t t = 0; t < K; ++t) columns[c][t][i] = values[t];
+    });
+    for (size_t c = 0; c < missing.size(); ++c)
+        for (size_t t = 0; t < K; ++t) tables[t]->setColumn(missing[c], columns[c][t]);
+}
+
+std::mutex& tablesMutex() {
+    static std::mutex mutex;
+    return mutex;
+}
+
+}  // namespace
+
+const MicrofacetAlbedoTable& conductorAlbedo(double lowest, double highest) {
+    static MicrofacetAlbedoTable table;
+    const std::lock_guard<std::mutex> lock(tablesMutex());
+    fillColumns(std::array{&table}, lowest, highest, [](double mu, double r) {
+        return std::array{smoothNode(r) ? 1.0 : conductorAlbedoAt(mu, alphaOfNode(r), kStrata)};
+    });
     return table;
 }
 
-std::shared_ptr<const DielectricAlbedo> dielectricAlbedo(double ior) {
-    static std::mutex mutex;
-    static std::map<double, std::shared_ptr<const DielectricAlbedo>> computed;
-    const std::lock_guard<std::mutex> lock(mutex);
-    if (auto it = computed.find(ior); it != computed.end()) return it->second;
-    auto albedo = std::make_shared<DielectricAlbedo>();
-    albedo->reflectedOutside.fill([&](double mu, double r) {
-        if (smoothNode(r)) return fresnelDielectric(mu, ior);
-        double reflected, total;
-        dielectricAlbedoAt(mu, alphaOfNode(r), ior, kStrata, reflected, total);
-        return reflected;
-    });
-    for (const bool outside : {true, false}) {
-        (outside ? albedo->outside : albedo->inside).fill([&](double mu, double r) {
-            if (smoothNode(r)) return 1.0;
-            double reflected, total;
-            dielectricAlbedoAt(mu, alphaOfNode(r), outside ? ior : 1.0 / ior, kStrata, reflected, total);
-            return total;
-        });
+std::shared_ptr<const DielectricAlbedo> dielectricAlbedo(double ior, double lowest, double highest) {
+    static std::map<double, std::shared_ptr<DielectricAlbedo>> computed;
+    const std::lock_guard<std::mutex> lock(tablesMutex());
+    std::shared_ptr<DielectricAlbedo>& albedo = computed[ior];
+    if (!albedo) {
+        albedo = std::make_shared<DielectricAlbedo>();
+        albedo->fresnelAverageOutside = fresnelDiffuseReflectance(ior);
     }
-    albedo->fresnelAverageOutside = fresnelDiffuseReflectance(ior);
-    computed.emplace(ior, albedo);
+    // Seen from outside, the reflection alone and with refraction come from
+    // one integration.
+    fillColumns(std::array{&albedo->reflectedOutside, &albedo->outside}, lowest, highest, [&](double mu, double r) {
+        double reflected = fresnelDielectric(mu, ior), total = 1.0;
+        if (!smoothNode(r)) dielectricAlbedoAt(mu, alphaOfNode(r), ior, kStrata, reflected, total);
+        return std::array{reflected, total};
+    });
+    fillColumns(std::array{&albedo->inside}, lowest, highest, [&](double mu, double r) {
+        double reflected = 0.0, total = 1.0;
+        if (!smoothNode(r)) dielectricAlbedoAt(mu, alphaOfNode(r), 1.0 / ior, kStrata, reflected, total);
+        return std::array{total};
+    });
     return albedo;
 }
 

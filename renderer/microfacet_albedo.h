@@ -8,8 +8,9 @@
 //
 // Tables are over the cosine mu of the angle to the normal and the
 // perceptual roughness r (alpha = r^2), integrated over visible normals
-// (stratified, 32 x 32 per entry) when first asked for: the conductor's
-// once, a dielectric's once per index of refraction.
+// (stratified, 32 x 32 per entry). Only the roughness columns a material
+// can reach are integrated, when it is made, in parallel, and kept for the
+// next: the conductor's table is shared, a dielectric's is one per index.
 #pragma once
 
 #include <array>
@@ -26,27 +27,26 @@ public:
     /// 2 int_0^1 E(mu) mu dmu at roughness r.
     double average(double roughness) const;
 
-    /// Fills the table from e(mu, roughness), the albedo at a node.
-    template <class Albedo>
-    void fill(Albedo&& e) {
-        for (int j = 0; j < kRoughnesses; ++j)
-            for (int i = 0; i < kCosines; ++i) values_[index(i, j)] = e(nodeCosine(i), nodeRoughness(j));
-        fillAverages();
-    }
-
     static double nodeCosine(int i);
     static double nodeRoughness(int j) { return double(j) / (kRoughnesses - 1); }
+    /// The columns at() reads for roughness in [lowest, highest].
+    static int firstColumn(double lowest);
+    static int lastColumn(double highest);
+    bool hasColumn(int j) const { return filled_[size_t(j)]; }
+    /// Sets column j from its albedos at the nodes, in order of cosine.
+    void setColumn(int j, const std::array<double, kCosines>& values);
 
 private:
     static int index(int i, int j) { return j * kCosines + i; }
-    void fillAverages();
 
     std::array<double, kCosines * kRoughnesses> values_{};
     std::array<double, kRoughnesses> averages_{};
+    std::array<bool, kRoughnesses> filled_{};
 };
 
-/// A conductor lobe's albedo with Fresnel reflectance 1.
-const MicrofacetAlbedoTable& conductorAlbedo();
+/// A conductor lobe's albedo with Fresnel reflectance 1, valid for
+/// roughness in [lowest, highest].
+const MicrofacetAlbedoTable& conductorAlbedo(double lowest, double highest);
 
 /// A rough dielectric interface of index `ior` (inside over outside). Light
 /// refracted counts as energy: its 1 / eta^2 radiance scaling is undone.
@@ -57,8 +57,9 @@ struct DielectricAlbedo {
     double fresnelAverageOutside = 0.0;      ///< 2 int F(mu) mu dmu of the smooth interface, from outside
 };
 
-/// Shared between the materials of one index; computed on first use.
-std::shared_ptr<const DielectricAlbedo> dielectricAlbedo(double ior);
+/// Shared between the materials of one index, valid for roughness in
+/// [lowest, highest].
+std::shared_ptr<const DielectricAlbedo> dielectricAlbedo(double ior, double lowest, double highest);
 
 /// The single-scattering lobes' albedos at one node, by the same
 /// integration the tables use (for tests, with more strata).

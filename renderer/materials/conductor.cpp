@@ -46,7 +46,7 @@ public:
                   bool multipleScattering)
         : index_(index), reflectance_(std::move(reflectance)), roughness_(std::move(roughness)) {
         smooth_ = TrowbridgeReitz(alphaOf(roughness_.maximum()), alphaOf(roughness_.maximum())).effectivelySmooth();
-        if (!smooth_ && multipleScattering) albedo_ = &conductorAlbedo();
+        if (!smooth_ && multipleScattering) albedo_ = &conductorAlbedo(roughness_.minimum(), roughness_.maximum());
     }
 
     uint32_t flags() const override { return smooth_ ? kBSDFSpecularReflection : kBSDFGlossyReflection; }

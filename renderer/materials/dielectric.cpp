@@ -32,7 +32,8 @@ public:
         : ior_(ior), roughness_(std::move(roughness)), transmittance_(std::move(transmittance)), thin_(thin) {
         const double alpha = TrowbridgeReitz::alphaFromRoughness(roughness_.maximum());
         smooth_ = thin_ || TrowbridgeReitz(alpha, alpha).effectivelySmooth();
-        if (!smooth_ && multipleScattering && ior_ != 1.0) albedo_ = dielectricAlbedo(ior_);
+        if (!smooth_ && multipleScattering && ior_ != 1.0)
+            albedo_ = dielectricAlbedo(ior_, roughness_.minimum(), roughness_.maximum());
     }
 
     uint32_t flags() const override {

@@ -31,7 +31,7 @@ public:
         const double alpha = TrowbridgeReitz::alphaFromRoughness(roughness_.maximum());
         smooth_ = TrowbridgeReitz(alpha, alpha).effectivelySmooth();
         diffuseScale_ = 1.0 / (ior_ * ior_ * (1.0 - fresnelDiffuseReflectance(1.0 / ior_)));
-        if (!smooth_ && multipleScattering) coatAlbedo_ = dielectricAlbedo(ior_);
+        if (!smooth_ && multipleScattering) coatAlbedo_ = dielectricAlbedo(ior_, roughness_.minimum(), roughness_.maximum());
     }
 
     uint32_t flags() const override {

@@ -125,8 +125,8 @@ TEST(WhiteFurnace, SingleScatteringLosesWhatFacetsBounce) {
 // them, within 4 standard errors and the interpolation error (1e-2 grazing,
 // where E changes fastest in mu).
 TEST(MicrofacetAlbedo, TablesAgreeWithTheSingleScatteringBsdfs) {
-    const MicrofacetAlbedoTable& conductor = conductorAlbedo();
-    const auto dielectric = dielectricAlbedo(1.5);
+    const MicrofacetAlbedoTable& conductor = conductorAlbedo(0.0, 1.0);
+    const auto dielectric = dielectricAlbedo(1.5, 0.0, 1.0);
     for (const double roughness : {0.3, 0.5, 0.6, 1.0}) {
         for (const double theta : {0.0, 30.0, 60.0, 75.0}) {
             const double mu = std::cos(theta * std::numbers::pi / 180);
