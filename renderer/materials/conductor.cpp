@@ -47,6 +47,10 @@ public:
         : index_(index), reflectance_(std::move(reflectance)), roughness_(std::move(roughness)) {
         smooth_ = TrowbridgeReitz(alphaOf(roughness_.maximum()), alphaOf(roughness_.maximum())).effectivelySmooth();
         if (!smooth_ && multipleScattering) albedo_ = &conductorAlbedo(roughness_.minimum(), roughness_.maximum());
+        // A fixed index or reflectance has one hemispherical Fresnel
+        // average: found once, not at every shading point.
+        if (albedo_ && (index_ || (reflectance_.minimum() == reflectance_.maximum()).all()))
+            fixedFresnelAverage_ = hemisphericalFresnel(ShadingPoint{});
     }
 
     uint32_t flags() const override { return smooth_ ? kBSDFSpecularReflection : kBSDFGlossyReflection; }
@@ -137,7 +141,7 @@ private:
         lobe.roughness = roughness_.at(p);
         const double E = albedo_->at(wo.z(), lobe.roughness), average = albedo_->average(lobe.roughness);
         if (!(1.0 - average > 1e-6)) return lobe;
-        const RGB fresnelAverage = hemisphericalFresnel(p);
+        const RGB fresnelAverage = fixedFresnelAverage_ ? *fixedFresnelAverage_ : hemisphericalFresnel(p);
         const RGB colour = fresnelAverage * fresnelAverage * average / (1.0 - fresnelAverage * (1.0 - average));
         lobe.colour = colour * ((1.0 - E) / (std::numbers::pi * (1.0 - average)));
         // By each lobe's share of the light reflected towards wo.
@@ -194,6 +198,7 @@ private:
     ScalarParameter roughness_;
     bool smooth_ = true;
     const MicrofacetAlbedoTable* albedo_ = nullptr;  ///< with multiple scattering
+    std::optional<RGB> fixedFresnelAverage_;
 };
 
 }  // namespace
