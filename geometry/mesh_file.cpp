@@ -44,7 +44,10 @@ void checkOffFile(const std::string& path, uintmax_t bytes) {
     std::istringstream header(line);
     std::string magic;
     header >> magic;
-    if (magic != "OFF") throw InputError(path, "line " + std::to_string(number), "expected \"OFF\"");
+    // COFF: OFF with a colour after each vertex (Princeton's shape
+    // benchmark, many scanners); the colours are not read.
+    if (magic != "OFF" && magic != "COFF")
+        throw InputError(path, "line " + std::to_string(number), "expected \"OFF\" or \"COFF\"");
     long long vertices = -1, faces = -1;
     if (!(header >> vertices)) {  // the counts on a line of their own
         if (!contentLine(in, line, number)) throw InputError(path, "", "the OFF file ends before its counts");

@@ -34,6 +34,22 @@ TEST(MeshFile, ReadsAnOffFile) {
     EXPECT_EQ(m.vertices[3], Vec3(-1, -1, 1));
 }
 
+// COFF (OFF with a colour per vertex, as Princeton's shape benchmark and
+// many scanners write it) reads as the same mesh; the colours are dropped.
+// Other headers are still refused, naming the line.
+TEST(MeshFile, ReadsColouredOffAsTheSameMesh) {
+    TemporaryFolder folder;
+    const IndexedMesh plain = readMeshFile(folder.write("tet.off", kTetrahedron));
+    const IndexedMesh coloured = readMeshFile(folder.write(
+        "coloured.off", "COFF\n4 4 0\n1 1 1 255 0 0 255\n1 -1 -1 0 255 0 255\n-1 1 -1 0 0 255 255\n"
+                        "-1 -1 1 9 9 9 255\n3 0 1 2\n3 0 3 1\n3 0 2 3\n3 1 3 2\n"));
+    EXPECT_EQ(coloured.vertices, plain.vertices);
+    EXPECT_EQ(coloured.triangles, plain.triangles);
+    const std::string error = errorOf(folder.write("other.off", "NOFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"));
+    EXPECT_NE(error.find("line 1"), std::string::npos) << error;
+    EXPECT_NE(error.find("expected \"OFF\" or \"COFF\""), std::string::npos) << error;
+}
+
 // Assimp clamps OFF indices into range; isotrace checks them first and
 // names the line.
 TEST(MeshFile, OffIndicesOutOfRangeNegativeOrMissingAreErrors) {
