@@ -53,6 +53,9 @@ ShadingPoint shadingPointOf(const Scene& scene, const SurfaceHit& hit, const Vec
 }
 
 ShadingPoint deltaShadingPoint(const BSDF& bsdf, const ShadingPoint& sp, const Vec3& wo) {
+    // Implicit surfaces and flat faces shade with their own normal: nothing
+    // to check, and no lobes to find twice.
+    if (sp.shadingNormal == sp.geometricNormal) return sp;
     ShadingPoint flat = sp;
     flat.shadingNormal = sp.geometricNormal;
     if (!(sp.shadingNormal.dot(wo) > 0)) return flat;

@@ -58,9 +58,9 @@ ShadingPoint shadingPointOf(const Scene& scene, const SurfaceHit& hit, const Vec
 /// The shading point delta lobes are drawn at: `sp`, or `sp` with its
 /// geometric normal for shading normal when wo is behind the shading
 /// normal or a lobe about it would leave through the other side of the
-/// surface. Shading
-/// normals of a polygonized crease lean far from its faces; glass there
-/// would otherwise refract light into the side it came from, or lose it.
+/// surface. Shading normals of a polygonized crease lean far from its
+/// faces; glass there would otherwise refract light into the side it came
+/// from, or lose it.
 ShadingPoint deltaShadingPoint(const BSDF& bsdf, const ShadingPoint& sp, const Vec3& wo);
 /// The next surface along a path's ray. A hit on a solid the path has met
 /// before, from the side the path is not on (entering a solid it is in, or

@@ -71,15 +71,14 @@ int MicrofacetAlbedoTable::lastColumn(double highest) {
 
 void MicrofacetAlbedoTable::setColumn(int j, const std::array<double, kCosines>& values) {
     for (int i = 0; i < kCosines; ++i) values_[index(i, j)] = values[size_t(i)];
-    // The average of the column's interpolant, which the lobes use
-    // (midpoint rule, fine enough that its error is far below the table's).
+    // The average of the interpolant the lobes use (midpoint rule, fine
+    // enough that its error is far below the table's). At a node's
+    // roughness at() reads this column alone.
     const int cells = 512;
     double sum = 0.0;
     for (int c = 0; c < cells; ++c) {
-        const double x = (c + 0.5) / cells * (kCosines - 1);
-        const int i = std::min(int(x), kCosines - 2);
-        const double f = x - i;
-        sum += ((1 - f) * values[size_t(i)] + f * values[size_t(i) + 1]) * 2.0 * (c + 0.5) / cells;
+        const double mu = (c + 0.5) / cells;
+        sum += at(mu, nodeRoughness(j)) * 2.0 * mu;
     }
     averages_[size_t(j)] = sum / cells;
     filled_[size_t(j)] = true;

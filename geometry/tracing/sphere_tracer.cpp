@@ -54,18 +54,29 @@ TraceResult sphereTrace(const FieldProgram& field, double lipschitz, const Vec3&
         result.evaluations = static_cast<uint64_t>(steps) * cost;
         return result;
     };
+    // At a zero tZero with value `before` just ahead of it: true when the
+    // field crosses there. A zero with the same sign on both sides is
+    // touched, not crossed (a ray through a concave edge of a CSG solid, or
+    // tangent to a surface, stays on its side): the march then goes on a
+    // resolution step past it.
+    auto crossesAt = [&](double before, double tZero) {
+        double safeAfter = 0.0;
+        const double after = field.valueAndSafeDistance(origin + (tZero + minStep) * direction, safeAfter);
+        ++steps;
+        if (before == 0.0 || after == 0.0 || differentSigns(before, after)) return true;
+        t = tZero + minStep;
+        f = after;
+        safe = safeAfter;
+        return false;
+    };
     if (f == 0.0) {
-        // Starting on a zero: a crossing only if the field changes sign
-        // there (see touched zeros below); the cell's bounds hold a
-        // resolution step around its segment.
+        // Starting on a zero: the cell's bounds hold a resolution step
+        // around its segment, so the value before it can be asked.
         double unused = 0.0;
         const double before = field.valueAndSafeDistance(origin + (t - minStep) * direction, unused);
-        const double after = field.valueAndSafeDistance(origin + (t + minStep) * direction, safe);
-        steps += 2;
-        if (before == 0.0 || after == 0.0 || differentSigns(before, after)) return finish(true, t);
-        t += minStep;
+        ++steps;
+        if (crossesAt(before, t)) return finish(true, t);
         if (t >= tEnd) return finish(false, 0.0);
-        f = after;
     }
 
     // Over-relaxed steps (Keinert et al. 2014) go omega times past the ball
@@ -96,18 +107,8 @@ TraceResult sphereTrace(const FieldProgram& field, double lipschitz, const Vec3&
             }
         }
         if (fNext == 0.0) {
-            // A zero with the same sign on both sides is touched, not
-            // crossed: a ray through a concave edge of a CSG solid, or
-            // tangent to a surface, stays on its side.
-            const double tBeyond = tNext + minStep;
-            double safeBeyond = 0.0;
-            const double fBeyond = field.valueAndSafeDistance(origin + tBeyond * direction, safeBeyond);
-            ++steps;
-            if (fBeyond == 0.0 || differentSigns(f, fBeyond)) return finish(true, tNext);
-            if (tBeyond >= tEnd) return finish(false, 0.0);
-            t = tBeyond;
-            f = fBeyond;
-            safe = safeBeyond;
+            if (crossesAt(f, tNext)) return finish(true, tNext);
+            if (t >= tEnd) return finish(false, 0.0);
             continue;
         }
         if (differentSigns(f, fNext)) {

@@ -44,7 +44,7 @@ private:
         const Vec3& ns = sp.shadingNormal;
 
         BSDFSample lobes[2];
-        const ShadingPoint deltaSp = deltaShadingPoint(bsdf, sp, wo);
+        const ShadingPoint deltaSp = depth < maxDepth_ ? deltaShadingPoint(bsdf, sp, wo) : sp;
         const int count = depth < maxDepth_ ? bsdf.deltaLobes(deltaSp, wo, lobes) : 0;
         for (int i = 0; i < count; ++i) {
             const RGB weight = beta * lobes[i].weight;
