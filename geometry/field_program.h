@@ -24,6 +24,7 @@
 #include "geometry/fields/revolved_profile.h"
 #include "geometry/fields/sphere.h"
 #include "geometry/fields/torus.h"
+#include "geometry/fields/vdb_level_set.h"
 #include "geometry/pointsets/mpu_field.h"
 #include "geometry/variational/variational_field.h"
 
@@ -69,7 +70,7 @@ using MpuLeafField = SharedLeafField<MpuField>;
 using LeafShape = std::variant<SphereField, BoxField, TorusField, PlaneField, EllipsoidField, OctahedronField,
                                RevolvedProfileField,
                                PolylineDistanceField, PolynomialField, BlobbyField, ConvolutionField,
-                               VariationalLeafField, MpuLeafField>;
+                               VariationalLeafField, MpuLeafField, VdbLevelSetField>;
 
 template <class Variant>
 struct AllLeafFields;

@@ -3,8 +3,10 @@
 #include "geometry/description/transform_description.h"
 #include "geometry/description/mpu_description.h"
 #include "geometry/description/variational_description.h"
+#include "geometry/fields/vdb_level_set.h"
 
 #include <Eigen/SVD>
+#include <unistd.h>
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -381,6 +383,35 @@ uint32_t makeMpu(Compiler& c, JsonObjectReader& r, const LeafPlacement& p) {
     return c.program.addLeaf(MpuLeafField{mpuFieldFromDescription(r, context)}, p);
 }
 
+// ---- OpenVDB level sets ----------------------------------------------------
+
+uint32_t makeVdb(Compiler& c, JsonObjectReader& r, const LeafPlacement& p) {
+    const std::string name = r.string("file");
+    const std::string grid = r.string("grid", "");
+    r.finish();  // a misspelt key fails before the file is read
+    const std::string path = resolvedFileName(name, std::filesystem::path(c.file()).parent_path().string());
+    const std::string where = r.pointerOf("file");
+    std::error_code error;
+    const auto size = std::filesystem::file_size(path, error);
+    const auto time = std::filesystem::last_write_time(path, error);
+    if (error) throw InputError(c.file(), where, "cannot read " + path + ": " + error.message());
+    const std::string key = path + "\n" + grid + "\n" + std::to_string(size) + "\n" +
+                            std::to_string(time.time_since_epoch().count());
+    std::shared_ptr<const VdbLevelSet> levelSet = c.options().fitCache ? c.options().fitCache->findLevelSet(key) : nullptr;
+    if (!levelSet) {
+        // The block bounds (and their pyramid) may take half of memory.
+        const double memory = double(sysconf(_SC_PHYS_PAGES)) * double(sysconf(_SC_PAGESIZE));
+        const uint64_t maxBlocks = uint64_t(0.5 * memory / (sizeof(VoxelBlockBounds) * 8.0 / 7.0));
+        try {
+            levelSet = std::make_shared<const VdbLevelSet>(openVdbLibrary().readLevelSet(path, grid, maxBlocks));
+        } catch (const std::exception& e) {
+            throw InputError(c.file(), where, path + ": " + e.what());
+        }
+        if (c.options().fitCache) c.options().fitCache->storeLevelSet(key, levelSet);
+    }
+    return c.program.addLeaf(VdbLevelSetField{std::move(levelSet)}, p);
+}
+
 // ---- operators -----------------------------------------------------------
 
 // Folds operands pairwise as a balanced tree, so pruning can drop whole halves.
@@ -472,6 +503,7 @@ const std::map<std::string, FieldFactory>& registry() {
         {"convolution", makeConvolution},
         {"variational", makeVariational},
         {"mpu", makeMpu},
+        {"vdb", makeVdb},
         {"union", makeUnion},
         {"intersection", makeIntersection},
         {"difference", makeDifference},

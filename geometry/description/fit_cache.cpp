@@ -67,4 +67,15 @@ void FitCache::storeMpu(const std::string& hash, std::shared_ptr<const MpuField>
     mpuMemory_.emplace(hash, std::move(field));
 }
 
+std::shared_ptr<const VdbLevelSet> FitCache::findLevelSet(const std::string& key) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    const auto it = levelSets_.find(key);
+    return it == levelSets_.end() ? nullptr : it->second;
+}
+
+void FitCache::storeLevelSet(const std::string& key, std::shared_ptr<const VdbLevelSet> levelSet) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    levelSets_.emplace(key, std::move(levelSet));
+}
+
 }  // namespace isotrace::geometry

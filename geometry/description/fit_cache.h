@@ -10,6 +10,7 @@
 #include <string>
 
 #include "geometry/description/json_reader.h"
+#include "geometry/fields/vdb_level_set.h"
 #include "geometry/pointsets/mpu_field.h"
 #include "geometry/variational/rbf_solver.h"
 
@@ -34,6 +35,11 @@ public:
     void storeMpu(const std::string& hash, std::shared_ptr<const MpuField> field, const MpuReport& report,
                   const Json& provenance);
 
+    /// Level sets read from VDB files, in memory only, by file, grid and
+    /// the file's size and time (a scene naming one file twice reads it once).
+    std::shared_ptr<const VdbLevelSet> findLevelSet(const std::string& key);
+    void storeLevelSet(const std::string& key, std::shared_ptr<const VdbLevelSet> levelSet);
+
 private:
     template <class Field, class Parse>
     std::shared_ptr<const Field> findIn(std::map<std::string, std::shared_ptr<const Field>>& memory, const char* kind,
@@ -45,6 +51,7 @@ private:
     std::mutex mutex_;
     std::map<std::string, std::shared_ptr<const VariationalField>> memory_;
     std::map<std::string, std::shared_ptr<const MpuField>> mpuMemory_;
+    std::map<std::string, std::shared_ptr<const VdbLevelSet>> levelSets_;
 };
 
 }  // namespace isotrace::geometry

@@ -102,7 +102,8 @@ int runIsotrace(int argc, const char* const* argv) {
         return "error: " + std::string(e.what()) + "\nRun with --help for more information.\n";
     });
     const Subcommand commands[] = {addRenderCommand(app),  addPolygonizeCommand(app), addMergeCommand(app),
-                                   addCompareCommand(app), addFitCommand(app),        addPreviewCommand(app), addSampleCommand(app)};
+                                   addCompareCommand(app), addFitCommand(app),        addPreviewCommand(app), addSampleCommand(app),
+                                   addVoxelizeCommand(app)};
     // CLI11 reports a misspelt command or an option before the command as
     // "a subcommand is required"; name what was typed instead.
     if (argc >= 2) {

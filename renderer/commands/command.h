@@ -32,6 +32,7 @@ Subcommand addCompareCommand(CLI::App& app);
 Subcommand addFitCommand(CLI::App& app);
 Subcommand addPreviewCommand(CLI::App& app);
 Subcommand addSampleCommand(CLI::App& app);
+Subcommand addVoxelizeCommand(CLI::App& app);
 
 /// Option checks that also refuse NaN and infinities (CLI11's
 /// PositiveNumber lets NaN through).

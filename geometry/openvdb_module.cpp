@@ -1,0 +1,246 @@
+// The OpenVDB module (isotrace_openvdb.so): the one place that includes
+// OpenVDB. It reads float level sets, proves the bounds of their trilinear
+// interpolant block by block, and writes meshes as level sets through
+// OpenVDB's mesh-to-volume conversion. Callers add the file and place to
+// its messages.
+#include <openvdb/openvdb.h>
+#include <openvdb/tools/LevelSetUtil.h>
+#include <openvdb/tools/MeshToVolume.h>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <mutex>
+#include <sstream>
+#include <stdexcept>
+
+#include "geometry/openvdb_library.h"
+
+namespace isotrace::geometry {
+
+namespace {
+
+using FloatTree = openvdb::FloatTree;
+// Not registered with the tree: no lock on construction, one per call.
+using Accessor = openvdb::tree::ValueAccessor<const FloatTree, /*IsSafe=*/false>;
+
+void initializeOnce() {
+    static std::once_flag once;
+    std::call_once(once, [] { openvdb::initialize(); });
+}
+
+int floorDiv(int a, int b) { return a >= 0 ? a / b : -((-a + b - 1) / b); }
+
+class GridVoxels final : public LevelSetVoxels {
+public:
+    explicit GridVoxels(openvdb::FloatGrid::ConstPtr grid) : grid_(std::move(grid)) {}
+    void cellCorners(int i, int j, int k, float corners[8]) const override {
+        Accessor voxels(grid_->tree());
+        for (int c = 0; c < 8; ++c) corners[c] = voxels.getValue(openvdb::Coord(i + (c & 1), j + (c >> 1 & 1), k + (c >> 2)));
+    }
+
+private:
+    openvdb::FloatGrid::ConstPtr grid_;
+};
+
+// The index box of every voxel that holds something other than the
+// background: leaf nodes, and tiles of another value (a level set's inside).
+openvdb::CoordBBox storedBox(const openvdb::FloatGrid& grid) {
+    openvdb::CoordBBox box;
+    const FloatTree& tree = grid.tree();
+    for (auto leaf = tree.cbeginLeaf(); leaf; ++leaf) box.expand(leaf->getNodeBoundingBox());
+    auto value = tree.cbeginValueAll();
+    value.setMaxDepth(FloatTree::DEPTH - 2);  // tiles only: leaves hold voxels
+    for (; value; ++value)
+        if (!value.isVoxelValue() && *value != tree.background()) box.expand(value.getBoundingBox());
+    return box;
+}
+
+// One block's bounds: the 9^3 voxels its cells' corners are, or, where no
+// leaf node is near, the up to 8 constant regions it touches.
+VoxelBlockBounds blockBounds(Accessor& voxels, const openvdb::Coord& origin) {
+    constexpr int n = kVoxelBlockCells;
+    bool nearLeaf = false;
+    float lo = std::numeric_limits<float>::infinity(), hi = -lo;
+    for (int c = 0; c < 8 && !nearLeaf; ++c) {
+        const openvdb::Coord corner = origin.offsetBy(n * (c & 1), n * (c >> 1 & 1), n * (c >> 2));
+        nearLeaf = voxels.probeConstLeaf(corner) != nullptr;
+        const float v = voxels.getValue(corner);
+        lo = std::min(lo, v);
+        hi = std::max(hi, v);
+    }
+    if (!nearLeaf) {
+        // Each region is one value; the interpolant moves between them by at
+        // most hi - lo along each axis.
+        return {lo, hi, float((hi - lo) * std::sqrt(3.0))};
+    }
+    constexpr int m = n + 1;
+    float v[m][m][m];
+    lo = std::numeric_limits<float>::infinity();
+    hi = -lo;
+    for (int z = 0; z < m; ++z)
+        for (int y = 0; y < m; ++y)
+            for (int x = 0; x < m; ++x) {
+                v[z][y][x] = voxels.getValue(origin.offsetBy(x, y, z));
+                lo = std::min(lo, v[z][y][x]);
+                hi = std::max(hi, v[z][y][x]);
+            }
+    // Within a cell, each partial derivative is a blend of the differences
+    // along that axis's four edges: bounded by the largest of them.
+    double dx = 0, dy = 0, dz = 0;
+    for (int z = 0; z < m; ++z)
+        for (int y = 0; y < m; ++y)
+            for (int x = 0; x < m; ++x) {
+                if (x + 1 < m) dx = std::max(dx, double(std::abs(v[z][y][x + 1] - v[z][y][x])));
+                if (y + 1 < m) dy = std::max(dy, double(std::abs(v[z][y + 1][x] - v[z][y][x])));
+                if (z + 1 < m) dz = std::max(dz, double(std::abs(v[z + 1][y][x] - v[z][y][x])));
+            }
+    // Rounded up so that the float never understates the double.
+    return {lo, hi, std::nextafter(float(std::sqrt(dx * dx + dy * dy + dz * dz)), std::numeric_limits<float>::infinity())};
+}
+
+std::string gridNames(openvdb::io::File& file) {
+    std::string names;
+    for (auto it = file.beginName(); it != file.endName(); ++it) names += (names.empty() ? "\"" : ", \"") + *it + "\"";
+    return names.empty() ? "none" : names;
+}
+
+class Library final : public OpenVdbLibrary {
+public:
+    LevelSetGridData readLevelSet(const std::string& path, const std::string& askedName, uint64_t maxBlocks) override {
+        initializeOnce();
+        if (!std::filesystem::is_regular_file(path)) throw std::runtime_error("cannot open the file: no such file");
+        openvdb::GridBase::Ptr base;
+        std::string gridName = askedName;
+        try {
+            openvdb::io::File file(path);
+            file.open(/*delayLoad=*/false);  // every voxel in memory: reads are then thread-safe
+            if (gridName.empty()) {
+                // Unnamed: the file's only grid.
+                int count = 0;
+                for (auto it = file.beginName(); it != file.endName(); ++it, ++count) gridName = *it;
+                if (count != 1)
+                    throw std::runtime_error("the file holds " + std::to_string(count) + " grids (" + gridNames(file) +
+                                             "); name one with \"grid\"");
+            }
+            if (!file.hasGrid(gridName))
+                throw std::runtime_error("no grid \"" + gridName + "\" in the file; its grids: " + gridNames(file));
+            base = file.readGrid(gridName);
+            file.close();
+        } catch (const openvdb::Exception& e) {
+            throw std::runtime_error(std::string("cannot read the file as OpenVDB: ") + e.what());
+        } catch (const std::bad_alloc&) {
+            throw std::runtime_error("cannot read the file as OpenVDB: it asks for more memory than there is (corrupt?)");
+        }
+        const std::string what = "grid \"" + gridName + "\"";
+        openvdb::FloatGrid::Ptr grid = openvdb::gridPtrCast<openvdb::FloatGrid>(base);
+        if (!grid) throw std::runtime_error(what + " holds " + base->valueType() + " values, not a float level set");
+        if (grid->getGridClass() != openvdb::GRID_LEVEL_SET)
+            throw std::runtime_error(what + " is a " + openvdb::GridBase::gridClassToString(grid->getGridClass()) +
+                                     ", not a level set (class \"level set\"); fog volumes are not surfaces");
+        const openvdb::math::Transform& transform = grid->transform();
+        if (!transform.isLinear()) throw std::runtime_error(what + " has a non-linear (frustum) transform");
+        if (!transform.hasUniformScale()) {
+            const openvdb::Vec3d size = transform.voxelSize();
+            std::ostringstream s;
+            s << what << " has non-uniform voxels (" << size.x() << " x " << size.y() << " x " << size.z()
+              << "); resample it to cubic voxels";
+            throw std::runtime_error(s.str());
+        }
+        if (grid->activeVoxelCount() == 0) throw std::runtime_error(what + " is empty: it has no active voxels");
+        const float background = grid->background();
+        if (!std::isfinite(background) || background <= 0)
+            throw std::runtime_error(what + " has background " + std::to_string(background) +
+                                     "; a level set's is its band's positive half-width");
+
+        LevelSetGridData data;
+        data.voxelSize = transform.voxelSize().x();
+        const openvdb::Mat4d m = transform.baseMap()->getAffineMap()->getMat4();
+        // OpenVDB multiplies row vectors: world = index * m.
+        for (int r = 0; r < 3; ++r) {
+            for (int c = 0; c < 3; ++c) data.indexToWorld[3 * r + c] = m(c, r);
+            data.indexOffset[r] = m(3, r);
+        }
+        data.background = background;
+        data.activeVoxels = grid->activeVoxelCount();
+        for (auto it = grid->beginMeta(); it != grid->endMeta(); ++it)
+            if (it->second && it->second->typeName() == openvdb::StringMetadata::staticTypeName())
+                data.metadata[it->first] = it->second->str();
+
+        const openvdb::CoordBBox stored = storedBox(*grid);
+        constexpr int n = kVoxelBlockCells;
+        for (int a = 0; a < 3; ++a) {
+            data.blockOrigin[a] = floorDiv(stored.min()[a], n) - 1;
+            data.blockCount[a] = floorDiv(stored.max()[a], n) - data.blockOrigin[a] + 1;
+        }
+        const uint64_t blockCount =
+            uint64_t(data.blockCount[0]) * uint64_t(data.blockCount[1]) * uint64_t(data.blockCount[2]);
+        if (blockCount > maxBlocks) {
+            std::ostringstream s;
+            s << what << " spans " << data.blockCount[0] * n << " x " << data.blockCount[1] * n << " x "
+              << data.blockCount[2] * n << " voxels; bounding it needs " << blockCount
+              << " blocks of 8^3, more than the " << maxBlocks << " this machine's memory allows";
+            throw std::runtime_error(s.str());
+        }
+        data.blocks.resize(blockCount);
+        const FloatTree& tree = grid->tree();
+        const int nx = data.blockCount[0], ny = data.blockCount[1];
+        tbb::parallel_for(tbb::blocked_range<uint64_t>(0, blockCount, 64), [&](const tbb::blocked_range<uint64_t>& r) {
+            Accessor voxels(tree);
+            for (uint64_t b = r.begin(); b != r.end(); ++b) {
+                const int x = int(b % nx), y = int(b / nx % ny), z = int(b / (uint64_t(nx) * ny));
+                const openvdb::Coord origin(n * (data.blockOrigin[0] + x), n * (data.blockOrigin[1] + y),
+                                            n * (data.blockOrigin[2] + z));
+                data.blocks[b] = blockBounds(voxels, origin);
+            }
+        });
+        data.voxels = std::make_shared<GridVoxels>(grid);
+        return data;
+    }
+
+    LevelSetWriteReport writeLevelSet(const std::string& path, const IndexedMesh& mesh,
+                                      const LevelSetWriteOptions& options) override {
+        initializeOnce();
+        std::vector<openvdb::Vec3s> points;
+        points.reserve(mesh.vertices.size());
+        for (const Vec3& v : mesh.vertices) points.emplace_back(float(v.x()), float(v.y()), float(v.z()));
+        std::vector<openvdb::Vec3I> triangles;
+        triangles.reserve(mesh.triangles.size());
+        for (const auto& t : mesh.triangles) triangles.emplace_back(t[0], t[1], t[2]);
+        const openvdb::math::Transform::Ptr transform = openvdb::math::Transform::createLinearTransform(options.voxelSize);
+        openvdb::FloatGrid::Ptr grid =
+            openvdb::tools::meshToLevelSet<openvdb::FloatGrid>(*transform, points, triangles, float(options.halfWidth));
+        if (options.fog) openvdb::tools::sdfToFogVolume(*grid);
+        grid->setName(options.gridName);
+        openvdb::MetaMap fileMetadata;
+        for (const auto& [key, value] : options.metadata) {
+            grid->insertMeta(key, openvdb::StringMetadata(value));
+            fileMetadata.insertMeta(key, openvdb::StringMetadata(value));
+        }
+        LevelSetWriteReport report;
+        report.activeVoxels = grid->activeVoxelCount();
+        report.leafNodes = grid->tree().leafCount();
+        try {
+            openvdb::io::File file(path);
+            file.write(openvdb::GridCPtrVec{grid}, fileMetadata);
+            file.close();
+        } catch (const openvdb::Exception& e) {
+            throw std::runtime_error(std::string("cannot write the file: ") + e.what());
+        }
+        std::error_code ignored;
+        report.fileBytes = std::filesystem::file_size(path, ignored);
+        return report;
+    }
+};
+
+}  // namespace
+
+}  // namespace isotrace::geometry
+
+extern "C" isotrace::geometry::OpenVdbLibrary* isotraceOpenVdbLibrary() {
+    static isotrace::geometry::Library library;
+    return &library;
+}
