@@ -89,17 +89,23 @@ VoxelBlockBounds blockBounds(Accessor& voxels, const openvdb::Coord& origin) {
                 hi = std::max(hi, v[z][y][x]);
             }
     // Within a cell, each partial derivative is a blend of the differences
-    // along that axis's four edges: bounded by the largest of them.
-    double dx = 0, dy = 0, dz = 0;
-    for (int z = 0; z < m; ++z)
-        for (int y = 0; y < m; ++y)
-            for (int x = 0; x < m; ++x) {
-                if (x + 1 < m) dx = std::max(dx, double(std::abs(v[z][y][x + 1] - v[z][y][x])));
-                if (y + 1 < m) dy = std::max(dy, double(std::abs(v[z][y + 1][x] - v[z][y][x])));
-                if (z + 1 < m) dz = std::max(dz, double(std::abs(v[z + 1][y][x] - v[z][y][x])));
+    // along that axis's four edges: bounded by the largest of them. Taken
+    // cell by cell, as a surface's normal turns across the block.
+    double worst = 0;
+    for (int z = 0; z < n; ++z)
+        for (int y = 0; y < n; ++y)
+            for (int x = 0; x < n; ++x) {
+                double dx = 0, dy = 0, dz = 0;
+                for (int a = 0; a < 2; ++a)
+                    for (int b = 0; b < 2; ++b) {
+                        dx = std::max(dx, double(std::abs(v[z + a][y + b][x + 1] - v[z + a][y + b][x])));
+                        dy = std::max(dy, double(std::abs(v[z + a][y + 1][x + b] - v[z + a][y][x + b])));
+                        dz = std::max(dz, double(std::abs(v[z + 1][y + a][x + b] - v[z][y + a][x + b])));
+                    }
+                worst = std::max(worst, dx * dx + dy * dy + dz * dz);
             }
     // Rounded up so that the float never understates the double.
-    return {lo, hi, std::nextafter(float(std::sqrt(dx * dx + dy * dy + dz * dz)), std::numeric_limits<float>::infinity())};
+    return {lo, hi, std::nextafter(float(std::sqrt(worst)), std::numeric_limits<float>::infinity())};
 }
 
 std::string gridNames(openvdb::io::File& file) {

@@ -25,6 +25,9 @@ inline const char* kCatalogLibrary = R"({
   "ring": {"type": "torus", "major": 0.8, "minor": 0.25}
 })";
 
+/// A torus (major 0.9, minor 0.3) as an OpenVDB level set of 0.08 voxels.
+inline const char* kVdbTorus = ISOTRACE_TEST_DATA_DIR "/torus.vdb";
+
 inline std::vector<CatalogEntry> fieldCatalog() {
     return {
         {"sphere", R"({"type": "sphere", "center": [0.1, -0.2, 0.3], "radius": 0.8})"},
@@ -69,6 +72,12 @@ inline std::vector<CatalogEntry> fieldCatalog() {
             [0, 0.5, 0, 0, 1, 0], [0, -0.5, 0, 0, -1, 0], [0, 0, 0.6, 0, 0, 1], [0, 0, -0.6, 0, 0, -1]]})"},
         {"variational_in_csg", R"({"type": "difference", "of": [{"type": "variational", "normals": [[0.7, 0, 0, 1, 0, 0],
             [-0.7, 0, 0, -1, 0, 0], [0, 0.6, 0, 0, 1, 0], [0, -0.6, 0, 0, -1, 0], [0, 0, 0.6, 0, 0, 1], [0, 0, -0.6, 0, 0, -1]]}, "ring"]})"},
+        // A level set isotrace wrote (tests/data/README.md): alone, in CSG with
+        // analytic fields, and under a skewing transform.
+        {"vdb", std::string(R"({"type": "vdb", "file": ")") + kVdbTorus + R"("})"},
+        {"vdb_in_csg", std::string(R"({"type": "difference", "of": [{"type": "vdb", "file": ")") + kVdbTorus + R"("}, "ball"]})"},
+        {"vdb_transformed", std::string(R"({"type": "transform", "rotate": {"axis": [1, 0, 1], "angle": 40}, "scale": [1.3, 0.8, 1.0],
+            "of": {"type": "vdb", "file": ")") + kVdbTorus + R"(", "grid": "surface"}})"},
         {"union", R"({"type": "union", "of": ["ball", "ring"]})"},
         {"intersection", R"({"type": "intersection", "of": ["ball", "cube"]})"},
         {"difference", R"({"type": "difference", "of": ["cube", "ball"]})"},
