@@ -34,7 +34,7 @@ TEST(Command, ExitStatusTellsBadInputFromInternalErrors) {
 }
 
 TEST(Command, EverySubcommandIsWired) {
-    for (const char* name : {"render", "polygonize", "merge", "compare", "fit", "preview"}) {
+    for (const char* name : {"render", "polygonize", "merge", "compare", "fit", "preview", "sample", "voxelize"}) {
         const char* argv[] = {"isotrace", name, "--help"};
         ::testing::internal::CaptureStdout();
         EXPECT_EQ(runIsotrace(3, argv), 0) << name;
