@@ -69,6 +69,7 @@ VoxelBlockBounds blockBounds(Accessor& voxels, const openvdb::Coord& origin) {
         const openvdb::Coord corner = origin.offsetBy(n * (c & 1), n * (c >> 1 & 1), n * (c >> 2));
         nearLeaf = voxels.probeConstLeaf(corner) != nullptr;
         const float v = voxels.getValue(corner);
+        if (!std::isfinite(v)) return {v, v, std::numeric_limits<float>::quiet_NaN()};
         lo = std::min(lo, v);
         hi = std::max(hi, v);
     }
@@ -85,6 +86,7 @@ VoxelBlockBounds blockBounds(Accessor& voxels, const openvdb::Coord& origin) {
         for (int y = 0; y < m; ++y)
             for (int x = 0; x < m; ++x) {
                 v[z][y][x] = voxels.getValue(origin.offsetBy(x, y, z));
+                if (!std::isfinite(v[z][y][x])) return {v[z][y][x], v[z][y][x], std::numeric_limits<float>::quiet_NaN()};
                 lo = std::min(lo, v[z][y][x]);
                 hi = std::max(hi, v[z][y][x]);
             }
@@ -140,6 +142,8 @@ public:
             throw std::runtime_error(std::string("cannot read the file as OpenVDB: ") + e.what());
         } catch (const std::bad_alloc&) {
             throw std::runtime_error("cannot read the file as OpenVDB: it asks for more memory than there is (corrupt?)");
+        } catch (const std::ios_base::failure& e) {
+            throw std::runtime_error(std::string("cannot read the file as OpenVDB: ") + e.what());
         }
         const std::string what = "grid \"" + gridName + "\"";
         openvdb::FloatGrid::Ptr grid = openvdb::gridPtrCast<openvdb::FloatGrid>(base);
@@ -182,15 +186,16 @@ public:
             data.blockOrigin[a] = floorDiv(stored.min()[a], n) - 1;
             data.blockCount[a] = floorDiv(stored.max()[a], n) - data.blockOrigin[a] + 1;
         }
-        const uint64_t blockCount =
-            uint64_t(data.blockCount[0]) * uint64_t(data.blockCount[1]) * uint64_t(data.blockCount[2]);
-        if (blockCount > maxBlocks) {
+        // In doubles: a vast sparse grid's count overflows 64 bits.
+        const double blocks = double(data.blockCount[0]) * double(data.blockCount[1]) * double(data.blockCount[2]);
+        if (blocks > double(maxBlocks)) {
             std::ostringstream s;
             s << what << " spans " << data.blockCount[0] * n << " x " << data.blockCount[1] * n << " x "
-              << data.blockCount[2] * n << " voxels; bounding it needs " << blockCount
+              << data.blockCount[2] * n << " voxels; bounding it needs " << blocks
               << " blocks of 8^3, more than the " << maxBlocks << " this machine's memory allows";
             throw std::runtime_error(s.str());
         }
+        const uint64_t blockCount = uint64_t(blocks);
         data.blocks.resize(blockCount);
         const FloatTree& tree = grid->tree();
         const int nx = data.blockCount[0], ny = data.blockCount[1];
@@ -203,6 +208,14 @@ public:
                 data.blocks[b] = blockBounds(voxels, origin);
             }
         });
+        for (uint64_t b = 0; b < blockCount; ++b)
+            if (std::isnan(data.blocks[b].gradient)) {
+                const uint64_t x = b % nx, y = b / nx % ny, z = b / (uint64_t(nx) * ny);
+                std::ostringstream s;
+                s << what << " holds a value that is not a number, or infinite, among voxels (" << n * (data.blockOrigin[0] + x)
+                  << ", " << n * (data.blockOrigin[1] + y) << ", " << n * (data.blockOrigin[2] + z) << ") to +8";
+                throw std::runtime_error(s.str());
+            }
         data.voxels = std::make_shared<GridVoxels>(grid);
         return data;
     }

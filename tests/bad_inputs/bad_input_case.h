@@ -39,8 +39,11 @@ const char* alternativeScene();
 /// Fixture files every case folder holds: scene.json (completeScene),
 /// other.json (alternativeScene), small.json (a quick scene for tiles and
 /// images), a tetrahedron (tet.off), oriented points on a sphere
-/// (ring.xyz), an environment map (sky.exr) and a texture (tiles.png).
+/// (ring.xyz), an environment map (sky.exr), a texture (tiles.png) and a
+/// level set (torus.vdb).
 std::map<std::string, std::string> fixtureFiles();
+/// The bytes of a file of the source tree (`relative` to its root).
+std::string readSourceFile(const std::string& relative);
 
 /// Scene mutations: every value replaced by one of a type it can never
 /// have, every array emptied, an unknown key in every object.
@@ -51,5 +54,7 @@ std::vector<BadInputCase> sceneFileCases();
 std::vector<BadInputCase> commandLineCases();
 /// Bad meshes, point sets, images and saved fits given to commands directly.
 std::vector<BadInputCase> inputFileCases();
+/// OpenVDB files a vdb field cannot read, and voxelize requests that cannot be met.
+std::vector<BadInputCase> vdbFileCases();
 
 }  // namespace isotrace::testing

@@ -88,7 +88,7 @@ TEST_P(BadInput, IsRefusedCleanly) {
 
 std::vector<BadInputCase> allCases() {
     std::vector<BadInputCase> cases;
-    for (auto part : {sceneMutationCases, sceneFileCases, commandLineCases, inputFileCases})
+    for (auto part : {sceneMutationCases, sceneFileCases, commandLineCases, inputFileCases, vdbFileCases})
         for (auto& c : part()) cases.push_back(std::move(c));
     return cases;
 }

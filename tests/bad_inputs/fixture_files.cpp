@@ -57,8 +57,9 @@ const char* completeScene() {
              "bounds": [[-1, -1, -1], [1, 1, 1]]},
   "fit": {"type": "variational", "points": "ring.xyz", "normal_offset": 0.01, "margin": 0.1},
   "scan": {"type": "mpu", "points": "ring.xyz", "accuracy": 0.01, "support": 0.75, "max_depth": 4, "min_points": 15},
+  "voxels": {"type": "vdb", "file": "torus.vdb", "grid": "surface"},
   "all": {"type": "union", "of": ["tube", "spike", "grown", "moved", "egg", "gem", "cubic", "round", "blobs", "stick", "hoop",
-                                  "arm", "half", "hollow", "fit", "scan"], "lipschitz": 20}
+                                  "arm", "half", "hollow", "fit", "scan", "voxels"], "lipschitz": 20}
  },
  "objects": [
   {"name": "part", "field": "cut", "material": "clay",
@@ -118,12 +119,12 @@ const char* alternativeScene() {
 })";
 }
 
-namespace {
-
 std::string readSourceFile(const std::string& relative) {
     std::ifstream in(std::string(ISOTRACE_SOURCE_DIR) + "/" + relative, std::ios::binary);
     return std::string(std::istreambuf_iterator<char>(in), {});
 }
+
+namespace {
 
 /// About 100 points evenly over the unit sphere with outward normals.
 std::string spherePoints() {
@@ -176,6 +177,7 @@ std::map<std::string, std::string> fixtureFiles() {
         {"ring.xyz", spherePoints()},
         {"sky.exr", readSourceFile("scenes/environments/sky.exr")},
         {"tiles.png", readSourceFile("scenes/textures/tiles.png")},
+        {"torus.vdb", readSourceFile("tests/data/torus.vdb")},
     };
 }
 
