@@ -22,6 +22,10 @@ namespace isotrace::geometry {
 
 /// Cells per block along each axis: one OpenVDB leaf node.
 constexpr int kVoxelBlockCells = 8;
+/// The voxels a block's cells have for corners: 9^3, x fastest.
+constexpr int kFootprintSide = kVoxelBlockCells + 1;
+constexpr int kFootprintVoxels = kFootprintSide * kFootprintSide * kFootprintSide;
+constexpr uint32_t kNoFootprint = 0xffffffffu;
 
 /// What the trilinear interpolant does over one block of cells (its cells'
 /// corners are the block's 9^3 voxels): its range, and the largest norm of
@@ -53,6 +57,12 @@ struct LevelSetGridData {
     /// every cell outside sees only the background.
     std::array<int, 3> blockOrigin{}, blockCount{};
     std::vector<VoxelBlockBounds> blocks;  ///< x fastest, then y, then z
+    /// The voxels of every block whose range holds zero (the only blocks a
+    /// surface crosses), copied so that tracing reads corners from an array:
+    /// footprintOf[block] is the block's place in `footprints`, in units of
+    /// kFootprintVoxels, or kNoFootprint.
+    std::vector<uint32_t> footprintOf;
+    std::vector<float> footprints;
     uint64_t activeVoxels = 0;
     std::map<std::string, std::string> metadata;  ///< the grid's string metadata
 };
@@ -79,8 +89,9 @@ public:
     /// std::runtime_error with a message naming the grid (and, for a
     /// missing one, the grids there are): unreadable or corrupt files,
     /// grids that are not float level sets, non-linear transforms,
-    /// non-uniform voxels, empty grids, and blocks past `maxBlocks`.
-    virtual LevelSetGridData readLevelSet(const std::string& path, const std::string& grid, uint64_t maxBlocks) = 0;
+    /// non-uniform voxels, empty grids, voxels that are not numbers, and
+    /// bounds and footprints that would take more than `memoryBudget` bytes.
+    virtual LevelSetGridData readLevelSet(const std::string& path, const std::string& grid, double memoryBudget) = 0;
     /// The signed distance to the closed mesh (inside negative) in a narrow
     /// band, as a level set (or a fog volume) written to `path`. Throws
     /// std::runtime_error.

@@ -59,40 +59,38 @@ openvdb::CoordBBox storedBox(const openvdb::FloatGrid& grid) {
     return box;
 }
 
-// One block's bounds: the 9^3 voxels its cells' corners are, or, where no
-// leaf node is near, the up to 8 constant regions it touches.
-VoxelBlockBounds blockBounds(Accessor& voxels, const openvdb::Coord& origin) {
-    constexpr int n = kVoxelBlockCells;
-    bool nearLeaf = false;
+// The block's 9^3 footprint voxels: its own leaf region and the first layer
+// of its seven neighbours beyond, each read from its leaf's buffer (or its
+// one tile value), not voxel by voxel.
+void readFootprint(Accessor& voxels, const openvdb::Coord& origin, float* v) {
+    constexpr int n = kVoxelBlockCells, m = kFootprintSide;
+    for (int c = 0; c < 8; ++c) {
+        const int ox = n * (c & 1), oy = n * (c >> 1 & 1), oz = n * (c >> 2);
+        const openvdb::Coord corner = origin.offsetBy(ox, oy, oz);
+        const openvdb::FloatTree::LeafNodeType* leaf = voxels.probeConstLeaf(corner);
+        const float tile = leaf ? 0.0f : voxels.getValue(corner);
+        for (int z = oz; z < std::min(oz + n, m); ++z)
+            for (int y = oy; y < std::min(oy + n, m); ++y)
+                for (int x = ox; x < std::min(ox + n, m); ++x)
+                    v[(z * m + y) * m + x] = leaf ? leaf->getValue(corner.offsetBy(x - ox, y - oy, z - oz)) : tile;
+    }
+}
+
+constexpr float kNotANumber = std::numeric_limits<float>::quiet_NaN();
+
+// One block's bounds from its footprint. Within a cell, each partial
+// derivative is a blend of the differences along that axis's four edges:
+// bounded by the largest of them. Taken cell by cell, as a surface's normal
+// turns across the block.
+VoxelBlockBounds footprintBounds(const float* v) {
+    constexpr int n = kVoxelBlockCells, m = kFootprintSide;
     float lo = std::numeric_limits<float>::infinity(), hi = -lo;
-    for (int c = 0; c < 8 && !nearLeaf; ++c) {
-        const openvdb::Coord corner = origin.offsetBy(n * (c & 1), n * (c >> 1 & 1), n * (c >> 2));
-        nearLeaf = voxels.probeConstLeaf(corner) != nullptr;
-        const float v = voxels.getValue(corner);
-        if (!std::isfinite(v)) return {v, v, std::numeric_limits<float>::quiet_NaN()};
-        lo = std::min(lo, v);
-        hi = std::max(hi, v);
+    for (int i = 0; i < kFootprintVoxels; ++i) {
+        if (!std::isfinite(v[i])) return {v[i], v[i], kNotANumber};
+        lo = std::min(lo, v[i]);
+        hi = std::max(hi, v[i]);
     }
-    if (!nearLeaf) {
-        // Each region is one value; the interpolant moves between them by at
-        // most hi - lo along each axis.
-        return {lo, hi, float((hi - lo) * std::sqrt(3.0))};
-    }
-    constexpr int m = n + 1;
-    float v[m][m][m];
-    lo = std::numeric_limits<float>::infinity();
-    hi = -lo;
-    for (int z = 0; z < m; ++z)
-        for (int y = 0; y < m; ++y)
-            for (int x = 0; x < m; ++x) {
-                v[z][y][x] = voxels.getValue(origin.offsetBy(x, y, z));
-                if (!std::isfinite(v[z][y][x])) return {v[z][y][x], v[z][y][x], std::numeric_limits<float>::quiet_NaN()};
-                lo = std::min(lo, v[z][y][x]);
-                hi = std::max(hi, v[z][y][x]);
-            }
-    // Within a cell, each partial derivative is a blend of the differences
-    // along that axis's four edges: bounded by the largest of them. Taken
-    // cell by cell, as a surface's normal turns across the block.
+    auto at = [v](int x, int y, int z) { return double(v[(z * m + y) * m + x]); };
     double worst = 0;
     for (int z = 0; z < n; ++z)
         for (int y = 0; y < n; ++y)
@@ -100,14 +98,36 @@ VoxelBlockBounds blockBounds(Accessor& voxels, const openvdb::Coord& origin) {
                 double dx = 0, dy = 0, dz = 0;
                 for (int a = 0; a < 2; ++a)
                     for (int b = 0; b < 2; ++b) {
-                        dx = std::max(dx, double(std::abs(v[z + a][y + b][x + 1] - v[z + a][y + b][x])));
-                        dy = std::max(dy, double(std::abs(v[z + a][y + 1][x + b] - v[z + a][y][x + b])));
-                        dz = std::max(dz, double(std::abs(v[z + 1][y + a][x + b] - v[z][y + a][x + b])));
+                        dx = std::max(dx, std::abs(at(x + 1, y + b, z + a) - at(x, y + b, z + a)));
+                        dy = std::max(dy, std::abs(at(x + b, y + 1, z + a) - at(x + b, y, z + a)));
+                        dz = std::max(dz, std::abs(at(x + b, y + a, z + 1) - at(x + b, y + a, z)));
                     }
                 worst = std::max(worst, dx * dx + dy * dy + dz * dz);
             }
     // Rounded up so that the float never understates the double.
     return {lo, hi, std::nextafter(float(std::sqrt(worst)), std::numeric_limits<float>::infinity())};
+}
+
+// One block's bounds: from its footprint where a leaf node is near, else
+// from the up to 8 constant regions it touches.
+VoxelBlockBounds blockBounds(Accessor& voxels, const openvdb::Coord& origin) {
+    constexpr int n = kVoxelBlockCells;
+    float lo = std::numeric_limits<float>::infinity(), hi = -lo;
+    for (int c = 0; c < 8; ++c) {
+        const openvdb::Coord corner = origin.offsetBy(n * (c & 1), n * (c >> 1 & 1), n * (c >> 2));
+        if (voxels.probeConstLeaf(corner)) {
+            float footprint[kFootprintVoxels];
+            readFootprint(voxels, origin, footprint);
+            return footprintBounds(footprint);
+        }
+        const float v = voxels.getValue(corner);
+        if (!std::isfinite(v)) return {v, v, kNotANumber};
+        lo = std::min(lo, v);
+        hi = std::max(hi, v);
+    }
+    // Each region is one value; the interpolant moves between them by at
+    // most hi - lo along each axis.
+    return {lo, hi, float((hi - lo) * std::sqrt(3.0))};
 }
 
 std::string gridNames(openvdb::io::File& file) {
@@ -118,7 +138,7 @@ std::string gridNames(openvdb::io::File& file) {
 
 class Library final : public OpenVdbLibrary {
 public:
-    LevelSetGridData readLevelSet(const std::string& path, const std::string& askedName, uint64_t maxBlocks) override {
+    LevelSetGridData readLevelSet(const std::string& path, const std::string& askedName, double memoryBudget) override {
         initializeOnce();
         if (!std::filesystem::is_regular_file(path)) throw std::runtime_error("cannot open the file: no such file");
         openvdb::GridBase::Ptr base;
@@ -188,34 +208,52 @@ public:
         }
         // In doubles: a vast sparse grid's count overflows 64 bits.
         const double blocks = double(data.blockCount[0]) * double(data.blockCount[1]) * double(data.blockCount[2]);
-        if (blocks > double(maxBlocks)) {
+        const double boundsBytes = blocks * sizeof(VoxelBlockBounds) * 8.0 / 7.0;  // and the pyramid above
+        auto refuse = [&](double bytes, const char* needs) {
             std::ostringstream s;
-            s << what << " spans " << data.blockCount[0] * n << " x " << data.blockCount[1] * n << " x "
-              << data.blockCount[2] * n << " voxels; bounding it needs " << blocks
-              << " blocks of 8^3, more than the " << maxBlocks << " this machine's memory allows";
+            s << "grid \"" << gridName << "\" spans " << data.blockCount[0] * n << " x " << data.blockCount[1] * n << " x "
+              << data.blockCount[2] * n << " voxels; its " << needs << " need " << bytes / double(1 << 20)
+              << " MiB, more than the " << memoryBudget / double(1 << 20) << " MiB this machine's memory allows";
             throw std::runtime_error(s.str());
-        }
+        };
+        if (boundsBytes > memoryBudget) refuse(boundsBytes, "block bounds");
         const uint64_t blockCount = uint64_t(blocks);
         data.blocks.resize(blockCount);
         const FloatTree& tree = grid->tree();
         const int nx = data.blockCount[0], ny = data.blockCount[1];
+        auto originOf = [&](uint64_t b) {
+            const int x = int(b % nx), y = int(b / nx % ny), z = int(b / (uint64_t(nx) * ny));
+            return openvdb::Coord(n * (data.blockOrigin[0] + x), n * (data.blockOrigin[1] + y), n * (data.blockOrigin[2] + z));
+        };
         tbb::parallel_for(tbb::blocked_range<uint64_t>(0, blockCount, 64), [&](const tbb::blocked_range<uint64_t>& r) {
             Accessor voxels(tree);
-            for (uint64_t b = r.begin(); b != r.end(); ++b) {
-                const int x = int(b % nx), y = int(b / nx % ny), z = int(b / (uint64_t(nx) * ny));
-                const openvdb::Coord origin(n * (data.blockOrigin[0] + x), n * (data.blockOrigin[1] + y),
-                                            n * (data.blockOrigin[2] + z));
-                data.blocks[b] = blockBounds(voxels, origin);
-            }
+            for (uint64_t b = r.begin(); b != r.end(); ++b) data.blocks[b] = blockBounds(voxels, originOf(b));
         });
         for (uint64_t b = 0; b < blockCount; ++b)
             if (std::isnan(data.blocks[b].gradient)) {
-                const uint64_t x = b % nx, y = b / nx % ny, z = b / (uint64_t(nx) * ny);
+                const openvdb::Coord o = originOf(b);
                 std::ostringstream s;
-                s << what << " holds a value that is not a number, or infinite, among voxels (" << n * (data.blockOrigin[0] + x)
-                  << ", " << n * (data.blockOrigin[1] + y) << ", " << n * (data.blockOrigin[2] + z) << ") to +8";
+                s << what << " holds a value that is not a number, or infinite, among voxels (" << o.x() << ", "
+                  << o.y() << ", " << o.z() << ") to +8";
                 throw std::runtime_error(s.str());
             }
+        // Footprints of the blocks a surface can cross.
+        data.footprintOf.assign(blockCount, kNoFootprint);
+        std::vector<uint64_t> surfaceBlocks;
+        for (uint64_t b = 0; b < blockCount; ++b)
+            if (data.blocks[b].lo <= 0 && data.blocks[b].hi >= 0) {
+                data.footprintOf[b] = uint32_t(surfaceBlocks.size());
+                surfaceBlocks.push_back(b);
+            }
+        const double footprintBytes = double(surfaceBlocks.size()) * kFootprintVoxels * sizeof(float) + blocks * 4.0;
+        if (boundsBytes + footprintBytes > memoryBudget || surfaceBlocks.size() >= kNoFootprint)
+            refuse(boundsBytes + footprintBytes, "block bounds and surface voxels");
+        data.footprints.resize(surfaceBlocks.size() * kFootprintVoxels);
+        tbb::parallel_for(tbb::blocked_range<size_t>(0, surfaceBlocks.size(), 16), [&](const tbb::blocked_range<size_t>& r) {
+            Accessor voxels(tree);
+            for (size_t i = r.begin(); i != r.end(); ++i)
+                readFootprint(voxels, originOf(surfaceBlocks[i]), data.footprints.data() + i * kFootprintVoxels);
+        });
         data.voxels = std::make_shared<GridVoxels>(grid);
         return data;
     }

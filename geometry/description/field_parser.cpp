@@ -399,11 +399,10 @@ uint32_t makeVdb(Compiler& c, JsonObjectReader& r, const LeafPlacement& p) {
                             std::to_string(time.time_since_epoch().count());
     std::shared_ptr<const VdbLevelSet> levelSet = c.options().fitCache ? c.options().fitCache->findLevelSet(key) : nullptr;
     if (!levelSet) {
-        // The block bounds (and their pyramid) may take half of memory.
+        // The block bounds and the surface's voxels may take half of memory.
         const double memory = double(sysconf(_SC_PHYS_PAGES)) * double(sysconf(_SC_PAGESIZE));
-        const uint64_t maxBlocks = uint64_t(0.5 * memory / (sizeof(VoxelBlockBounds) * 8.0 / 7.0));
         try {
-            levelSet = std::make_shared<const VdbLevelSet>(openVdbLibrary().readLevelSet(path, grid, maxBlocks));
+            levelSet = std::make_shared<const VdbLevelSet>(openVdbLibrary().readLevelSet(path, grid, 0.5 * memory));
         } catch (const std::exception& e) {
             throw InputError(c.file(), where, path + ": " + e.what());
         }

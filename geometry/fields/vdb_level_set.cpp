@@ -129,7 +129,7 @@ double VdbLevelSet::valueAndGradient(const Vec3& p, Vec3& gradient) const {
         }
     }
     float v[8];
-    grid_.voxels->cellCorners(int(cell.x()), int(cell.y()), int(cell.z()), v);
+    cellCorners(cell.cast<int>(), v);
     const Vec3 t = x - cell;
     // Trilinear: along x on each of the four x-edges, then y, then z.
     const double e00 = v[0] + t.x() * (v[1] - v[0]), e10 = v[2] + t.x() * (v[3] - v[2]);
@@ -141,6 +141,19 @@ double VdbLevelSet::valueAndGradient(const Vec3& p, Vec3& gradient) const {
     const Vec3 indexGradient(dx0 + t.z() * (dx1 - dx0), (1 - t.z()) * (e10 - e00) + t.z() * (e11 - e01), f1 - f0);
     gradient = worldToIndex_.transpose() * indexGradient;
     return value;
+}
+
+void VdbLevelSet::cellCorners(const Eigen::Vector3i& cell, float corners[8]) const {
+    int offset;
+    if (const float* footprint = footprintOf(cell, offset)) return footprintCorners(footprint, offset, corners);
+    bool inBlocks = true;
+    for (int axis = 0; axis < 3; ++axis) {
+        const double first = double(kVoxelBlockCells) * grid_.blockOrigin[axis];
+        inBlocks = inBlocks && cell[axis] >= first && cell[axis] < first + double(kVoxelBlockCells) * grid_.blockCount[axis];
+    }
+    // Beyond the blocks every corner is the background.
+    if (!inBlocks) return std::fill(corners, corners + 8, grid_.background);
+    grid_.voxels->cellCorners(cell.x(), cell.y(), cell.z(), corners);
 }
 
 double VdbLevelSet::value(const Vec3& p) const {

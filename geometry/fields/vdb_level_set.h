@@ -30,6 +30,40 @@ public:
     /// The stored voxels' cells, in world space.
     Box3 bounds() const { return bounds_; }
 
+    /// Index space: voxel centres at integer points, cell (i, j, k) the unit
+    /// cube above voxel (i, j, k). Rays keep their t there (the map is affine).
+    Vec3 indexOf(const Vec3& p) const { return worldToIndex_ * p + worldToIndexOffset_; }
+    Vec3 indexDirectionOf(const Vec3& d) const { return worldToIndex_ * d; }
+    /// The corners of an index cell (corner (a, b, c) at a + 2b + 4c); the
+    /// background outside the stored blocks.
+    void cellCorners(const Eigen::Vector3i& cell, float corners[8]) const;
+    /// The footprint of the block holding a cell (its 9^3 voxels, x
+    /// fastest), and the cell's offset in it; null where the block's range
+    /// holds no zero (no surface crosses it) or the cell lies beyond the blocks.
+    const float* footprintOf(const Eigen::Vector3i& cell, int& offset) const {
+        size_t index = 0, stride = 1;
+        offset = 0;
+        int offsetStride = 1;
+        for (int axis = 0; axis < 3; ++axis) {
+            const int block = (cell[axis] >= 0 ? cell[axis] : cell[axis] - (kVoxelBlockCells - 1)) / kVoxelBlockCells;
+            const int relative = block - grid_.blockOrigin[axis];
+            if (relative < 0 || relative >= grid_.blockCount[axis]) return nullptr;
+            index += stride * size_t(relative);
+            stride *= size_t(grid_.blockCount[axis]);
+            offset += offsetStride * (cell[axis] - kVoxelBlockCells * block);
+            offsetStride *= kFootprintSide;
+        }
+        const uint32_t f = grid_.footprintOf[index];
+        return f == kNoFootprint ? nullptr : grid_.footprints.data() + size_t(f) * kFootprintVoxels;
+    }
+    /// The corners of a cell of a footprint, at `offset`.
+    static void footprintCorners(const float* footprint, int offset, float corners[8]) {
+        constexpr int dy = kFootprintSide, dz = kFootprintSide * kFootprintSide;
+        const float* v = footprint + offset;
+        corners[0] = v[0], corners[1] = v[1], corners[2] = v[dy], corners[3] = v[dy + 1];
+        corners[4] = v[dz], corners[5] = v[dz + 1], corners[6] = v[dz + dy], corners[7] = v[dz + dy + 1];
+    }
+
     double voxelSize() const { return grid_.voxelSize; }
     double background() const { return grid_.background; }
     const LevelSetGridData& grid() const { return grid_; }
@@ -47,7 +81,6 @@ private:
     /// The bounds over every block of a span, from the coarsest pyramid
     /// level that covers it with at most two entries per axis.
     VoxelBlockBounds gather(const BlockSpan& span) const;
-    Vec3 indexOf(const Vec3& p) const { return worldToIndex_ * p + worldToIndexOffset_; }
 
     LevelSetGridData grid_;
     Mat3 worldToIndex_, worldToIndexAbs_;

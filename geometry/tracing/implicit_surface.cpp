@@ -19,6 +19,7 @@
 #include "geometry/tracing/polynomial_cells.h"
 #include "geometry/tracing/sphere_cells.h"
 #include "geometry/tracing/torus_cells.h"
+#include "geometry/tracing/vdb_cells.h"
 #include "geometry/tracing/mpu_cells.h"
 #include "geometry/tracing/partitioned_variational_cells.h"
 #include "geometry/tracing/variational_cells.h"
@@ -30,7 +31,8 @@ std::vector<std::shared_ptr<const CellAccelerator>> defaultCellAccelerators() {
             std::make_shared<MpuCellAccelerator>(), std::make_shared<PartitionedVariationalCellAccelerator>(),
             std::make_shared<BlobCellAccelerator>(), std::make_shared<PolynomialCellAccelerator>(),
             std::make_shared<SphereCellAccelerator>(), std::make_shared<TorusCellAccelerator>(),
-            std::make_shared<BoxCellAccelerator>(), std::make_shared<CsgCellAccelerator>()};
+            std::make_shared<BoxCellAccelerator>(), std::make_shared<VdbCellAccelerator>(),
+            std::make_shared<CsgCellAccelerator>()};
 }
 
 TraceCounters& threadTraceCounters() {

@@ -120,11 +120,27 @@ TEST(VdbLevelSet, BeyondTheBandTheBoundsAreTheBackground) {
 // isotrace wrote: a hand-check of the reader against OpenVDB's own reading.
 TEST(VdbLevelSet, ReadsTheGridItWasAskedFor) {
     const std::string file = ISOTRACE_TEST_DATA_DIR "/torus.vdb";
-    const LevelSetGridData grid = openVdbLibrary().readLevelSet(file, "surface", 1u << 20);
+    const LevelSetGridData grid = openVdbLibrary().readLevelSet(file, "surface", 64 << 20);
     EXPECT_NEAR(grid.voxelSize, 0.08, 1e-12);
     EXPECT_NEAR(grid.background, 0.24, 1e-6);
     EXPECT_GT(grid.activeVoxels, 5000u);
     EXPECT_EQ(grid.metadata.at("isotrace:field"), "torus");
-    EXPECT_THROW(openVdbLibrary().readLevelSet(file, "density", 1u << 20), std::runtime_error);
-    EXPECT_THROW(openVdbLibrary().readLevelSet(file, "surface", 10), std::runtime_error);
+    EXPECT_THROW(openVdbLibrary().readLevelSet(file, "density", 64 << 20), std::runtime_error);
+    EXPECT_THROW(openVdbLibrary().readLevelSet(file, "surface", 1000), std::runtime_error);
+    // The surface's blocks keep their voxels, as OpenVDB holds them.
+    size_t kept = 0;
+    for (uint32_t f : grid.footprintOf) kept += f != kNoFootprint;
+    EXPECT_EQ(grid.footprints.size(), kept * kFootprintVoxels);
+    EXPECT_GT(kept, 0u);
+    for (size_t b = 0; b < grid.blocks.size(); ++b) {
+        if (grid.footprintOf[b] == kNoFootprint) continue;
+        const int x = int(b % grid.blockCount[0]), y = int(b / grid.blockCount[0] % grid.blockCount[1]),
+                  z = int(b / (size_t(grid.blockCount[0]) * grid.blockCount[1]));
+        float corners[8];
+        const int i = 8 * (grid.blockOrigin[0] + x) + 3, j = 8 * (grid.blockOrigin[1] + y) + 5, k = 8 * (grid.blockOrigin[2] + z) + 7;
+        grid.voxels->cellCorners(i, j, k, corners);
+        const float* footprint = grid.footprints.data() + size_t(grid.footprintOf[b]) * kFootprintVoxels;
+        for (int c = 0; c < 8; ++c)
+            ASSERT_EQ(corners[c], footprint[((7 + (c >> 2)) * kFootprintSide + 5 + (c >> 1 & 1)) * kFootprintSide + 3 + (c & 1)]);
+    }
 }
