@@ -6,7 +6,7 @@
 # the times, their ratio, and how many pixels one renderer hits and the
 # other misses; writes the images side by side into OUT.
 #
-#   bash bench/vdb_render_comparison.sh [OUT] [RESOLUTION] [RUNS]
+#   bash bench/vdb_render_comparison.sh [OUT] [RESOLUTION] [RUNS] [IMAGE_SIZE]
 #
 # Also times the export against polygonizing the same field at the same
 # resolution. Needs libopenvdb-tools (vdb_render, vdb_tool).
@@ -15,7 +15,7 @@ cd "$(dirname "$0")/.."
 out=${1:-/tmp/isotrace-vdb-bench}
 resolution=${2:-256}
 runs=${3:-5}
-size=512
+size=${4:-512}
 isotrace=$PWD/build/isotrace
 data=$PWD/../shared/data
 mkdir -p "$out"
@@ -73,20 +73,24 @@ EOF
   local iso_times=() vdb_times=()
   for i in $(seq "$runs"); do
     iso_times+=("$(seconds "$isotrace" render "$out/$name.json" -o "$out/${name}_isotrace.exr" --threads 2 --quiet \
-      --no-preview --aov depth)")
+      --no-preview)")
     vdb_times+=("$(seconds vdb_render "$vdb" "$out/${name}_vdb_render.exr" -res ${size}x${size} -cpus 2 -samples 1 \
       -shader diffuse -translate "$from" -lookat "$to" -up 0,1,0 -fov "$fov" -compression none)")
   done
   local iso vdbr
   iso=$(printf '%s\n' "${iso_times[@]}" | median)
   vdbr=$(printf '%s\n' "${vdb_times[@]}" | median)
-  # Coverage: isotrace's finite depth against vdb_render's alpha.
-  oiiotool "$out/${name}_isotrace.exr" --ch depth.Z --cpow 0 --clamp:min=0:max=1 -o "$out/${name}_iso_mask.exr" 2>/dev/null ||
-    oiiotool "$out/${name}_isotrace.exr" --ch Z --cpow 0 --clamp:min=0:max=1 -o "$out/${name}_iso_mask.exr"
-  oiiotool "$out/${name}_vdb_render.exr" --ch A --cmul 1e30 --clamp:min=0:max=1 -o "$out/${name}_vdb_mask.exr"
+  # Coverage: isotrace's depth (0 where a ray misses) against where
+  # vdb_render's normal shader leaves a normal (its alpha is 1 everywhere).
+  vdb_render "$vdb" "$out/${name}_vdb_normals.exr" -res ${size}x${size} -cpus 2 -samples 1 -shader normal \
+    -translate "$from" -lookat "$to" -up 0,1,0 -fov "$fov" -compression none >/dev/null
+  "$isotrace" render "$out/$name.json" -o "$out/${name}_depth.exr" --threads 2 --quiet --no-preview --aov depth
+  oiiotool "$out/${name}_depth.exr" --ch Z --mulc 1e30 --clamp:min=0:max=1 -o "$out/${name}_iso_mask.exr"
+  oiiotool "$out/${name}_vdb_normals.exr" --ch R,G,B --abs --chsum --mulc 1e30 --clamp:min=0:max=1 \
+    -o "$out/${name}_vdb_mask.exr"
   local differ
-  differ=$(oiiotool "$out/${name}_iso_mask.exr" "$out/${name}_vdb_mask.exr" --absdiff --printstats 2>/dev/null |
-    awk '/Avg:/ {print $2; exit}')
+  differ=$(oiiotool "$out/${name}_iso_mask.exr" "$out/${name}_vdb_mask.exr" --absdiff --printstats |
+    awk '/Stats Avg:/ {print $3; exit}')
   oiiotool "$out/${name}_isotrace.exr" --ch R,G,B "$out/${name}_vdb_render.exr" --ch R,G,B --mosaic 2x1 \
     -o "$out/${name}_side_by_side.png"
   printf '%-8s isotrace %.3f s, vdb_render %.3f s, vdb_render / isotrace %.2fx; pixels hit by one and not the other: %.4f%%\n' \

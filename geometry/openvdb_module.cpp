@@ -68,11 +68,20 @@ void readFootprint(Accessor& voxels, const openvdb::Coord& origin, float* v) {
         const int ox = n * (c & 1), oy = n * (c >> 1 & 1), oz = n * (c >> 2);
         const openvdb::Coord corner = origin.offsetBy(ox, oy, oz);
         const openvdb::FloatTree::LeafNodeType* leaf = voxels.probeConstLeaf(corner);
-        const float tile = leaf ? 0.0f : voxels.getValue(corner);
-        for (int z = oz; z < std::min(oz + n, m); ++z)
-            for (int y = oy; y < std::min(oy + n, m); ++y)
-                for (int x = ox; x < std::min(ox + n, m); ++x)
-                    v[(z * m + y) * m + x] = leaf ? leaf->getValue(corner.offsetBy(x - ox, y - oy, z - oz)) : tile;
+        const int xEnd = std::min(ox + n, m), yEnd = std::min(oy + n, m), zEnd = std::min(oz + n, m);
+        if (!leaf) {
+            const float tile = voxels.getValue(corner);
+            for (int z = oz; z < zEnd; ++z)
+                for (int y = oy; y < yEnd; ++y)
+                    for (int x = ox; x < xEnd; ++x) v[(z * m + y) * m + x] = tile;
+            continue;
+        }
+        // A leaf stores x slowest: offset (x << 6) + (y << 3) + z.
+        const float* values = leaf->buffer().data();
+        for (int z = oz; z < zEnd; ++z)
+            for (int y = oy; y < yEnd; ++y)
+                for (int x = ox; x < xEnd; ++x)
+                    v[(z * m + y) * m + x] = values[((x - ox) << 6) + ((y - oy) << 3) + (z - oz)];
     }
 }
 
@@ -90,22 +99,40 @@ VoxelBlockBounds footprintBounds(const float* v) {
         lo = std::min(lo, v[i]);
         hi = std::max(hi, v[i]);
     }
-    auto at = [v](int x, int y, int z) { return double(v[(z * m + y) * m + x]); };
-    double worst = 0;
+    // Blocks no surface crosses are only stepped over: the largest edge
+    // difference along any axis, times sqrt(3), bounds them well enough.
+    if (!(lo <= 0 && hi >= 0)) {
+        float largest = 0;
+        for (int i = 0; i + 1 < kFootprintVoxels; ++i) {
+            if ((i + 1) % m != 0) largest = std::max(largest, std::abs(v[i + 1] - v[i]));
+            if (i + m < kFootprintVoxels && (i / m) % m != n) largest = std::max(largest, std::abs(v[i + m] - v[i]));
+            if (i + m * m < kFootprintVoxels) largest = std::max(largest, std::abs(v[i + m * m] - v[i]));
+        }
+        return {lo, hi, float(double(largest) * std::sqrt(3.0) * (1 + 1e-6))};
+    }
+    // Each edge's difference once (in floats: the margin below covers their
+    // rounding), then each cell's largest per axis.
+    float ex[m][m][n], ey[m][n][m], ez[n][m][m];
+    for (int z = 0; z < m; ++z)
+        for (int y = 0; y < m; ++y)
+            for (int x = 0; x < m; ++x) {
+                const float here = v[(z * m + y) * m + x];
+                if (x < n) ex[z][y][x] = std::abs(v[(z * m + y) * m + x + 1] - here);
+                if (y < n) ey[z][y][x] = std::abs(v[(z * m + y + 1) * m + x] - here);
+                if (z < n) ez[z][y][x] = std::abs(v[((z + 1) * m + y) * m + x] - here);
+            }
+    float worst = 0;
     for (int z = 0; z < n; ++z)
         for (int y = 0; y < n; ++y)
             for (int x = 0; x < n; ++x) {
-                double dx = 0, dy = 0, dz = 0;
-                for (int a = 0; a < 2; ++a)
-                    for (int b = 0; b < 2; ++b) {
-                        dx = std::max(dx, std::abs(at(x + 1, y + b, z + a) - at(x, y + b, z + a)));
-                        dy = std::max(dy, std::abs(at(x + b, y + 1, z + a) - at(x + b, y, z + a)));
-                        dz = std::max(dz, std::abs(at(x + b, y + a, z + 1) - at(x + b, y + a, z)));
-                    }
+                const float dx = std::max(std::max(ex[z][y][x], ex[z][y + 1][x]), std::max(ex[z + 1][y][x], ex[z + 1][y + 1][x]));
+                const float dy = std::max(std::max(ey[z][y][x], ey[z][y][x + 1]), std::max(ey[z + 1][y][x], ey[z + 1][y][x + 1]));
+                const float dz = std::max(std::max(ez[z][y][x], ez[z][y][x + 1]), std::max(ez[z][y + 1][x], ez[z][y + 1][x + 1]));
                 worst = std::max(worst, dx * dx + dy * dy + dz * dz);
             }
-    // Rounded up so that the float never understates the double.
-    return {lo, hi, std::nextafter(float(std::sqrt(worst)), std::numeric_limits<float>::infinity())};
+    // A float difference, square and sum each round by at most half an ulp:
+    // 1e-6 relative covers them, and the bound never understates the double.
+    return {lo, hi, float(std::sqrt(double(worst)) * (1 + 1e-6))};
 }
 
 // One block's bounds: from its footprint where a leaf node is near, else

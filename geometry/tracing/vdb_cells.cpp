@@ -49,27 +49,51 @@ public:
         const VdbLevelSet& levelSet = *shape_.levelSet;
         const Vec3 xo = levelSet.indexOf(o), xd = levelSet.indexDirectionOf(d);
         const double tolerance = settings.epsilon / direction.norm();
-        // The cell holding the segment's start, stepping the way the ray goes
-        // where the start lies on a cell face.
-        const Vec3 start = xo + t0 * xd;
+        const double speed = xd.norm();  // voxels per unit of t
         Eigen::Vector3i cell, step;
         Vec3 tNext, tDelta;
         for (int k = 0; k < 3; ++k) {
-            double c = std::floor(start[k]);
-            if (xd[k] < 0 && c == start[k]) c -= 1;
-            cell[k] = int(c);
             step[k] = xd[k] > 0 ? 1 : xd[k] < 0 ? -1 : 0;
             tDelta[k] = xd[k] != 0 ? std::abs(1.0 / xd[k]) : INFINITY;
-            tNext[k] = xd[k] != 0 ? t0 + ((xd[k] > 0 ? c + 1 : c) - start[k]) / xd[k] : INFINITY;
         }
+        // The cell holding the ray at t (stepping the way the ray goes where
+        // it lies on a face), and when the ray leaves it along each axis.
+        auto locate = [&](double t) {
+            const Vec3 x = xo + t * xd;
+            for (int k = 0; k < 3; ++k) {
+                double c = std::floor(x[k]);
+                if (xd[k] < 0 && c == x[k]) c -= 1;
+                cell[k] = int(c);
+                tNext[k] = xd[k] != 0 ? t + ((xd[k] > 0 ? c + 1 : c) - x[k]) / xd[k] : INFINITY;
+            }
+        };
+        // When the ray leaves the current cell's block.
+        auto blockExit = [&](double t) {
+            const Vec3 x = xo + t * xd;
+            double exit = INFINITY;
+            for (int k = 0; k < 3; ++k) {
+                if (xd[k] == 0) continue;
+                const int block = (cell[k] >= 0 ? cell[k] : cell[k] - (kVoxelBlockCells - 1)) / kVoxelBlockCells;
+                const double face = kVoxelBlockCells * double(xd[k] > 0 ? block + 1 : block);
+                exit = std::min(exit, t + (face - x[k]) / xd[k]);
+            }
+            return exit;
+        };
         double t = t0;
+        locate(t);
         float v[8];
         while (t < t1) {
-            int axis = tNext[0] < tNext[1] ? (tNext[0] < tNext[2] ? 0 : 2) : (tNext[1] < tNext[2] ? 1 : 2);
-            const double tExit = std::min(tNext[axis], t1);
+            const int axis = tNext[0] < tNext[1] ? (tNext[0] < tNext[2] ? 0 : 2) : (tNext[1] < tNext[2] ? 1 : 2);
+            const double cellExit = tNext[axis];
             ++r.steps;
             int offset;
-            if (const float* footprint = levelSet.footprintOf(cell, offset)) {
+            float gradient;
+            const float* footprint = levelSet.footprintOf(cell, offset, gradient);
+            double jump = -INFINITY;  // where the next cell to look at is, when more than one cell on
+            if (!footprint) {
+                // No zero in the block: on to the next.
+                jump = std::max(blockExit(t), cellExit);
+            } else {
                 VdbLevelSet::footprintCorners(footprint, offset, v);
                 ++r.evaluations;
                 const float lo = std::min({v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7]});
@@ -77,15 +101,27 @@ public:
                 if (lo <= 0 && hi >= 0) {
                     // About the cell's entry, where the local coordinates lie in [0, 1].
                     const Vec3 a = xo + t * xd - cell.cast<double>();
-                    const auto s = firstBernsteinRoot<3>(trilinearAlongLine(v, a, xd), 0.0, tExit - t, tolerance,
-                                                         nullptr, settings.anyHit);
+                    const auto s = firstBernsteinRoot<3>(trilinearAlongLine(v, a, xd), 0.0, std::min(cellExit, t1) - t,
+                                                         tolerance, nullptr, settings.anyHit);
                     if (s) {
                         recordShapeHit(r, t + *s, o, d);
                         return r;
                     }
+                } else if (gradient > 0) {
+                    // |f| >= margin over the cell, and changes by at most
+                    // `gradient` per voxel within the block: no zero closer.
+                    const double margin = lo > 0 ? lo : -hi;
+                    const double safe = t + margin / (double(gradient) * speed);
+                    if (safe > cellExit + tDelta[axis]) jump = std::min(safe, blockExit(t));
                 }
             }
-            t = tNext[axis];
+            if (jump > cellExit) {
+                t = jump;
+                if (t >= t1) break;
+                locate(t);
+                continue;
+            }
+            t = cellExit;
             cell[axis] += step[axis];
             tNext[axis] += tDelta[axis];
         }
