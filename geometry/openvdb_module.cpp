@@ -94,20 +94,26 @@ constexpr float kNotANumber = std::numeric_limits<float>::quiet_NaN();
 VoxelBlockBounds footprintBounds(const float* v) {
     constexpr int n = kVoxelBlockCells, m = kFootprintSide;
     float lo = std::numeric_limits<float>::infinity(), hi = -lo;
+    bool finite = true;
     for (int i = 0; i < kFootprintVoxels; ++i) {
-        if (!std::isfinite(v[i])) return {v[i], v[i], kNotANumber};
+        finite = finite && std::isfinite(v[i]);
         lo = std::min(lo, v[i]);
         hi = std::max(hi, v[i]);
     }
+    if (!finite) return {lo, hi, kNotANumber};
     // Blocks no surface crosses are only stepped over: the largest edge
     // difference along any axis, times sqrt(3), bounds them well enough.
     if (!(lo <= 0 && hi >= 0)) {
         float largest = 0;
-        for (int i = 0; i + 1 < kFootprintVoxels; ++i) {
-            if ((i + 1) % m != 0) largest = std::max(largest, std::abs(v[i + 1] - v[i]));
-            if (i + m < kFootprintVoxels && (i / m) % m != n) largest = std::max(largest, std::abs(v[i + m] - v[i]));
-            if (i + m * m < kFootprintVoxels) largest = std::max(largest, std::abs(v[i + m * m] - v[i]));
-        }
+        for (int z = 0; z < m; ++z)
+            for (int y = 0; y < m; ++y) {
+                const float* row = v + (z * m + y) * m;
+                for (int x = 0; x < n; ++x) largest = std::max(largest, std::abs(row[x + 1] - row[x]));
+                if (y < n)
+                    for (int x = 0; x < m; ++x) largest = std::max(largest, std::abs(row[x + m] - row[x]));
+                if (z < n)
+                    for (int x = 0; x < m; ++x) largest = std::max(largest, std::abs(row[x + m * m] - row[x]));
+            }
         return {lo, hi, float(double(largest) * std::sqrt(3.0) * (1 + 1e-6))};
     }
     // Each edge's difference once (in floats: the margin below covers their

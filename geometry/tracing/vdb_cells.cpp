@@ -131,6 +131,10 @@ public:
 
 }  // namespace
 
+bool VdbCellAccelerator::marchesWholeField(const FieldProgram& field, const Box3&) const {
+    return bareShape<VdbLevelSetField>(field) != nullptr;
+}
+
 std::optional<CellAcceleration> VdbCellAccelerator::accelerate(const FieldProgram& program, const Box3& box,
                                                                double) const {
     const ShapeCell<VdbLevelSetField> cell(program, box);

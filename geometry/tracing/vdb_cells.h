@@ -14,6 +14,9 @@ class VdbCellAccelerator final : public CellAccelerator {
 public:
     std::optional<CellAcceleration> accelerate(const FieldProgram& cellProgram, const Box3& cellBox,
                                                double surfaceDiagonal) const override;
+    /// A bare one is: the walk skips the blocks no surface crosses by
+    /// itself, and an octree of parts would only add Embree calls.
+    bool marchesWholeField(const FieldProgram& field, const Box3& box) const override;
 };
 
 }  // namespace isotrace::geometry
