@@ -4,7 +4,9 @@
 # turned into a level set by OpenVDB's vdb_tool. Same camera, one ray per
 # pixel, 2 threads, each renderer's whole process (median of RUNS). Prints
 # the times, their ratio, and how many pixels one renderer hits and the
-# other misses; writes the images side by side into OUT.
+# other misses; writes the images side by side into OUT. isotrace renders
+# with a directional light (a shadow ray per hit), and again without lights
+# (camera rays only, as vdb_render's shaders cast).
 #
 #   bash bench/vdb_render_comparison.sh [OUT] [RESOLUTION] [RUNS] [IMAGE_SIZE]
 #
@@ -70,15 +72,20 @@ render_pair() {
   "lights": [ { "type": "directional", "direction": [-0.3, -0.3, -0.4], "irradiance": [3, 3, 3] } ]
 }
 EOF
-  local iso_times=() vdb_times=()
+  # The same without lights: camera rays only, as vdb_render's shaders cast.
+  sed 's/"lights": \[.*\]$/"lights": []/' "$out/$name.json" > "$out/${name}_camera_rays.json"
+  local iso_times=() iso_camera_times=() vdb_times=()
   for i in $(seq "$runs"); do
     iso_times+=("$(seconds "$isotrace" render "$out/$name.json" -o "$out/${name}_isotrace.exr" --threads 2 --quiet \
       --no-preview)")
+    iso_camera_times+=("$(seconds "$isotrace" render "$out/${name}_camera_rays.json" -o "$out/${name}_camera_rays.exr" \
+      --threads 2 --quiet --no-preview)")
     vdb_times+=("$(seconds vdb_render "$vdb" "$out/${name}_vdb_render.exr" -res ${size}x${size} -cpus 2 -samples 1 \
       -shader diffuse -translate "$from" -lookat "$to" -up 0,1,0 -fov "$fov" -compression none)")
   done
-  local iso vdbr
+  local iso iso_camera vdbr
   iso=$(printf '%s\n' "${iso_times[@]}" | median)
+  iso_camera=$(printf '%s\n' "${iso_camera_times[@]}" | median)
   vdbr=$(printf '%s\n' "${vdb_times[@]}" | median)
   # Coverage: isotrace's depth (0 where a ray misses) against where
   # vdb_render's normal shader leaves a normal (its alpha is 1 everywhere).
@@ -93,8 +100,8 @@ EOF
     awk '/Stats Avg:/ {print $3; exit}')
   oiiotool "$out/${name}_isotrace.exr" --ch R,G,B "$out/${name}_vdb_render.exr" --ch R,G,B --mosaic 2x1 \
     -o "$out/${name}_side_by_side.png"
-  printf '%-8s isotrace %.3f s, vdb_render %.3f s, vdb_render / isotrace %.2fx; pixels hit by one and not the other: %.4f%%\n' \
-    "$name" "$iso" "$vdbr" "$(calc "$vdbr / $iso")" "$(calc "$differ * 100")"
+  printf '%-8s isotrace %.3f s (camera rays only %.3f s), vdb_render %.3f s, vdb_render / isotrace %.2fx (%.2fx); pixels hit by one and not the other: %.4f%%\n' \
+    "$name" "$iso" "$iso_camera" "$vdbr" "$(calc "$vdbr / $iso")" "$(calc "$vdbr / $iso_camera")" "$(calc "$differ * 100")"
 }
 
 echo "renders at ${size}x${size}, 1 ray per pixel, 2 threads, whole process (median of $runs):"

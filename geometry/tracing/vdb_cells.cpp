@@ -37,6 +37,40 @@ Monomials<3> trilinearAlongLine(const float v[8], const Vec3& a, const Vec3& b) 
     return {low[0] + high[0], low[1] + high[1], low[2] + high[2], low[3] + high[3]};
 }
 
+// Where a ray is along each axis of a grid of cubes of side `size` (index
+// units): the cube holding it at t (stepping the way the ray goes where it
+// lies on a face), when it leaves that cube along each axis, and the step.
+struct GridWalk {
+    Eigen::Vector3i at, step;
+    Vec3 next, delta;
+
+    GridWalk(const Vec3& xo, const Vec3& xd, double t, double size) {
+        const Vec3 x = xo + t * xd;
+        for (int k = 0; k < 3; ++k) {
+            double c = std::floor(x[k] / size);
+            if (xd[k] < 0 && c * size == x[k]) c -= 1;
+            at[k] = int(c);
+            step[k] = xd[k] > 0 ? 1 : xd[k] < 0 ? -1 : 0;
+            delta[k] = xd[k] != 0 ? std::abs(size / xd[k]) : INFINITY;
+            next[k] = xd[k] != 0 ? t + ((xd[k] > 0 ? c + 1 : c) * size - x[k]) / xd[k] : INFINITY;
+        }
+    }
+    int exitAxis() const { return next[0] < next[1] ? (next[0] < next[2] ? 0 : 2) : (next[1] < next[2] ? 1 : 2); }
+    void advance(int axis) {
+        at[axis] += step[axis];
+        next[axis] += delta[axis];
+    }
+    /// Keeps the cube within [lo, hi] per axis (a start on a face may round
+    /// to the cube outside), moving its exits with it.
+    void clamp(const Eigen::Vector3i& lo, const Eigen::Vector3i& hi) {
+        for (int k = 0; k < 3; ++k) {
+            const int moved = std::clamp(at[k], lo[k], hi[k]) - at[k];
+            at[k] += moved;
+            if (step[k] != 0) next[k] += moved * step[k] * delta[k];
+        }
+    }
+};
+
 class VdbCellTracer final : public ShapeCellTracer<VdbLevelSetField> {
 public:
     explicit VdbCellTracer(const ShapeCell<VdbLevelSetField>& cell) : ShapeCellTracer(cell) {}
@@ -47,85 +81,97 @@ public:
         Vec3 o, d;
         if (!leafSegment(origin, direction, o, d, t0, t1)) return r;
         const VdbLevelSet& levelSet = *shape_.levelSet;
+        const LevelSetGridData& grid = levelSet.grid();
         const Vec3 xo = levelSet.indexOf(o), xd = levelSet.indexDirectionOf(d);
-        const double tolerance = settings.epsilon / direction.norm();
-        const double speed = xd.norm();  // voxels per unit of t
-        Eigen::Vector3i cell, step;
-        Vec3 tNext, tDelta;
-        for (int k = 0; k < 3; ++k) {
-            step[k] = xd[k] > 0 ? 1 : xd[k] < 0 ? -1 : 0;
-            tDelta[k] = xd[k] != 0 ? std::abs(1.0 / xd[k]) : INFINITY;
-        }
-        // The cell holding the ray at t (stepping the way the ray goes where
-        // it lies on a face), and when the ray leaves it along each axis.
-        auto locate = [&](double t) {
-            const Vec3 x = xo + t * xd;
-            for (int k = 0; k < 3; ++k) {
-                double c = std::floor(x[k]);
-                if (xd[k] < 0 && c == x[k]) c -= 1;
-                cell[k] = int(c);
-                tNext[k] = xd[k] != 0 ? t + ((xd[k] > 0 ? c + 1 : c) - x[k]) / xd[k] : INFINITY;
-            }
-        };
-        // When the ray leaves the current cell's block.
-        auto blockExit = [&](double t) {
-            const Vec3 x = xo + t * xd;
-            double exit = INFINITY;
-            for (int k = 0; k < 3; ++k) {
-                if (xd[k] == 0) continue;
-                const int block = (cell[k] >= 0 ? cell[k] : cell[k] - (kVoxelBlockCells - 1)) / kVoxelBlockCells;
-                const double face = kVoxelBlockCells * double(xd[k] > 0 ? block + 1 : block);
-                exit = std::min(exit, t + (face - x[k]) / xd[k]);
-            }
-            return exit;
-        };
+        // Beyond the blocks every voxel is the background: no surface.
+        constexpr int n = kVoxelBlockCells;
+        const Eigen::Vector3i origin8(grid.blockOrigin[0], grid.blockOrigin[1], grid.blockOrigin[2]);
+        const Eigen::Vector3i count(grid.blockCount[0], grid.blockCount[1], grid.blockCount[2]);
+        const Box3 blocks(Vec3(n * origin8.cast<double>()), Vec3(n * (origin8 + count).cast<double>()));
+        if (!clipRayToBox(blocks, xo, xd, t0, t1) || !(t0 < t1)) return r;
+        const Settings walk{settings.epsilon / direction.norm(), xd.norm(), settings.anyHit};
+
+        // Blocks first: those no surface crosses are passed in one step.
+        GridWalk block(xo, xd, t0, n);
+        block.clamp(origin8, origin8 + count - Eigen::Vector3i::Ones());
+        const Eigen::Vector3i relative = block.at - origin8;
+        size_t index = size_t(relative.x()) + size_t(count.x()) * (size_t(relative.y()) + size_t(count.y()) * relative.z());
+        const long long indexStep[3] = {block.step[0], block.step[1] * (long long)count.x(),
+                                        block.step[2] * (long long)count.x() * count.y()};
         double t = t0;
-        locate(t);
-        float v[8];
         while (t < t1) {
-            const int axis = tNext[0] < tNext[1] ? (tNext[0] < tNext[2] ? 0 : 2) : (tNext[1] < tNext[2] ? 1 : 2);
-            const double cellExit = tNext[axis];
+            const int axis = block.exitAxis();
+            const double blockEnd = std::min(block.next[axis], t1);
             ++r.steps;
-            int offset;
-            float gradient;
-            const float* footprint = levelSet.footprintOf(cell, offset, gradient);
-            double jump = -INFINITY;  // where the next cell to look at is, when more than one cell on
-            if (!footprint) {
-                // No zero in the block: on to the next.
-                jump = std::max(blockExit(t), cellExit);
-            } else {
-                VdbLevelSet::footprintCorners(footprint, offset, v);
-                ++r.evaluations;
-                const float lo = std::min({v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7]});
-                const float hi = std::max({v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7]});
-                if (lo <= 0 && hi >= 0) {
-                    // About the cell's entry, where the local coordinates lie in [0, 1].
-                    const Vec3 a = xo + t * xd - cell.cast<double>();
-                    const auto s = firstBernsteinRoot<3>(trilinearAlongLine(v, a, xd), 0.0, std::min(cellExit, t1) - t,
-                                                         tolerance, nullptr, settings.anyHit);
-                    if (s) {
-                        recordShapeHit(r, t + *s, o, d);
-                        return r;
-                    }
-                } else if (gradient > 0) {
-                    // |f| >= margin over the cell, and changes by at most
-                    // `gradient` per voxel within the block: no zero closer.
-                    const double margin = lo > 0 ? lo : -hi;
-                    const double safe = t + margin / (double(gradient) * speed);
-                    if (safe > cellExit + tDelta[axis]) jump = std::min(safe, blockExit(t));
+            if (const uint32_t f = grid.footprintOf[index]; f != kNoFootprint) {
+                const float* footprint = grid.footprints.data() + size_t(f) * kFootprintVoxels;
+                if (walkBlock(r, footprint, grid.blocks[index].gradient, block.at * n, xo, xd, t, blockEnd, walk)) {
+                    recordShapeHit(r, r.t, o, d);
+                    return r;
                 }
             }
-            if (jump > cellExit) {
-                t = jump;
-                if (t >= t1) break;
-                locate(t);
-                continue;
-            }
-            t = cellExit;
-            cell[axis] += step[axis];
-            tNext[axis] += tDelta[axis];
+            t = block.next[axis];
+            block.advance(axis);
+            const int at = block.at[axis] - origin8[axis];
+            if (at < 0 || at >= count[axis]) break;
+            index += indexStep[axis];
         }
         return r;
+    }
+
+private:
+    struct Settings {
+        double tolerance;  ///< in t
+        double speed;      ///< voxels per unit of t
+        bool anyHit;
+    };
+
+    // The cells of one block, [t, end] of the ray: skips cells whose corners
+    // share a sign (by sphere steps under the block's gradient bound where
+    // those pass more than a cell) and solves the others' trilinear cubic.
+    // True, with r.t, at the first root.
+    static bool walkBlock(CellTraceResult& r, const float* footprint, float gradient, const Eigen::Vector3i& first,
+                          const Vec3& xo, const Vec3& xd, double t, double end, const Settings& s) {
+        const Eigen::Vector3i last = first + Eigen::Vector3i::Constant(kVoxelBlockCells - 1);
+        GridWalk cell(xo, xd, t, 1.0);
+        cell.clamp(first, last);
+        float v[8];
+        while (t < end) {
+            const int axis = cell.exitAxis();
+            const double cellEnd = std::min(cell.next[axis], end);
+            ++r.steps;
+            ++r.evaluations;
+            const Eigen::Vector3i local = cell.at - first;
+            VdbLevelSet::footprintCorners(footprint, (local.z() * kFootprintSide + local.y()) * kFootprintSide + local.x(), v);
+            const float lo = std::min({v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7]});
+            const float hi = std::max({v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7]});
+            if (lo <= 0 && hi >= 0) {
+                // About the cell's entry, where the local coordinates lie in [0, 1].
+                const Vec3 a = xo + t * xd - cell.at.cast<double>();
+                if (const auto root = firstBernsteinRoot<3>(trilinearAlongLine(v, a, xd), 0.0, cellEnd - t, s.tolerance,
+                                                            nullptr, s.anyHit)) {
+                    r.hit = true;
+                    r.t = t + *root;
+                    return true;
+                }
+            } else if (gradient > 0) {
+                // |f| >= margin over the cell, and changes by at most
+                // `gradient` per voxel within the block: no zero closer.
+                const double safe = t + double(lo > 0 ? lo : -hi) / (double(gradient) * s.speed);
+                if (safe > cell.next[axis] + cell.delta[axis]) {
+                    if (safe >= end) return false;
+                    t = safe;
+                    cell = GridWalk(xo, xd, t, 1.0);
+                    cell.clamp(first, last);
+                    continue;
+                }
+            }
+            t = cell.next[axis];
+            cell.advance(axis);
+            const int at = cell.at[axis];
+            if (at < first[axis] || at > last[axis]) return false;
+        }
+        return false;
     }
 };
 
