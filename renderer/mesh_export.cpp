@@ -24,14 +24,27 @@ void writeOff(const std::string& path, const geometry::IndexedMesh& mesh) {
     if (!out.flush()) throw geometry::IoError(path, "cannot write the mesh");
 }
 
-// Assimp's own message after the path, as the other write errors read.
-void writeMeshWithAssimp(const std::string& path, const geometry::IndexedMesh& mesh, const char* formatId) {
+// Assimp's own message after the user's path (not the temporary one it
+// writes), as the other write errors read.
+void writeMeshWithAssimp(const std::string& temporary, const std::string& path, const geometry::IndexedMesh& mesh,
+                         const char* formatId) {
     geometry::AssimpLibrary& assimp = geometry::assimpLibrary();
     try {
-        assimp.write(path, mesh, formatId);
+        assimp.write(temporary, mesh, formatId);
     } catch (const std::runtime_error& e) {
-        throw geometry::IoError(path, std::string("cannot write the mesh: ") + e.what());
+        std::string message = e.what();
+        for (size_t at = message.find(temporary); at != std::string::npos; at = message.find(temporary, at + path.size()))
+            message.replace(at, temporary.size(), path);
+        throw geometry::IoError(path, "cannot write the mesh: " + message);
     }
+}
+
+// Assimp writes no PLY without faces; an empty mesh is still a valid file.
+void writeEmptyPly(const std::string& temporary, const std::string& path) {
+    std::ofstream out(temporary, std::ios::binary);
+    out << "ply\nformat binary_little_endian 1.0\nelement vertex 0\nproperty float x\nproperty float y\n"
+           "property float z\nelement face 0\nproperty list uchar int vertex_indices\nend_header\n";
+    if (!out.flush()) throw geometry::IoError(path, "cannot write the mesh");
 }
 
 }  // namespace
@@ -49,7 +62,8 @@ void writeMesh(const std::string& path, const geometry::IndexedMesh& mesh) {
         (p.parent_path() / ("." + p.stem().string() + ".partial-" + std::to_string(getpid()) + e)).string();
     try {
         if (e == ".off") writeOff(temporary, mesh);
-        else writeMeshWithAssimp(temporary, mesh, e == ".ply" ? "plyb" : "objnomtl");
+        else if (e == ".ply" && mesh.triangles.empty()) writeEmptyPly(temporary, path);
+        else writeMeshWithAssimp(temporary, path, mesh, e == ".ply" ? "plyb" : "objnomtl");
         std::filesystem::rename(temporary, path);
     } catch (...) {
         std::error_code ignored;

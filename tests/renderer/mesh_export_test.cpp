@@ -2,6 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <filesystem>
+#include <fstream>
+
 #include "geometry/description/field_parser.h"
 #include "geometry/meshing/polygonizer.h"
 #include "renderer/triangle_mesh.h"
@@ -27,5 +30,27 @@ TEST(MeshExport, EveryFormatRoundTrips) {
         EXPECT_NEAR(back.vertex(back.indices[0]).norm(), mesh.vertices[mesh.triangles[0][0]].norm(), 1e-5) << name;
     }
     EXPECT_THROW(writeMesh(folder.file("t.stl"), mesh), std::runtime_error);
-    EXPECT_THROW(writeMesh(folder.file("missing/t.ply"), mesh), std::exception);
+    // A failure names the file asked for, not the temporary one written first.
+    try {
+        writeMesh(folder.file("missing/t.ply"), mesh);
+        ADD_FAILURE() << "no error for a missing folder";
+    } catch (const std::exception& e) {
+        EXPECT_NE(std::string(e.what()).find("missing/t.ply"), std::string::npos) << e.what();
+        EXPECT_EQ(std::string(e.what()).find("partial"), std::string::npos) << e.what();
+    }
+}
+
+// A field with no surface in its bounds polygonizes to an empty mesh: every
+// format still writes a valid, empty file.
+TEST(MeshExport, EmptyMeshesWriteEmptyFiles) {
+    TemporaryFolder folder;
+    const geometry::IndexedMesh empty;
+    for (const char* name : {"e.ply", "e.obj", "e.off"}) {
+        ASSERT_NO_THROW(writeMesh(folder.file(name), empty)) << name;
+        EXPECT_TRUE(std::filesystem::exists(folder.file(name))) << name;
+    }
+    std::ifstream ply(folder.file("e.ply"));
+    std::string header((std::istreambuf_iterator<char>(ply)), {});
+    EXPECT_EQ(header.rfind("ply\nformat binary_little_endian 1.0\nelement vertex 0\n", 0), 0u) << header;
+    EXPECT_NE(header.find("element face 0\n"), std::string::npos) << header;
 }
