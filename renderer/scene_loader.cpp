@@ -8,12 +8,12 @@
 #include <map>
 #include <numbers>
 #include <sstream>
-#include <unistd.h>
 
 #include "geometry/description/field_parser.h"
 #include "geometry/description/json_reader.h"
 #include "geometry/meshing/polygonizer.h"
 #include "geometry/particles/surface_particles.h"
+#include "geometry/physical_memory.h"
 #include "renderer/field_hosting.h"
 #include "renderer/scene_builder.h"
 #include "renderer/scene_values.h"
@@ -138,7 +138,7 @@ private:
         if (overrides_.height > 0) film.height = overrides_.height;
         if (overrides_.samplesPerPixel > 0) film.samplesPerPixel = overrides_.samplesPerPixel;
         const double bytes = estimateFilmBytes(film.width, film.height);
-        const double available = double(sysconf(_SC_PHYS_PAGES)) * double(sysconf(_SC_PAGESIZE));
+        const double available = geometry::physicalMemoryBytes();
         if (bytes > 0.5 * available)
             throw InputError(path_, "/film", "a " + std::to_string(film.width) + "x" + std::to_string(film.height) +
                                                  " image needs about " + std::to_string(bytes / (1 << 30)) +

@@ -4,9 +4,9 @@
 #include "geometry/description/mpu_description.h"
 #include "geometry/description/variational_description.h"
 #include "geometry/fields/vdb_level_set.h"
+#include "geometry/physical_memory.h"
 
 #include <Eigen/SVD>
-#include <unistd.h>
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -400,9 +400,8 @@ uint32_t makeVdb(Compiler& c, JsonObjectReader& r, const LeafPlacement& p) {
     std::shared_ptr<const VdbLevelSet> levelSet = c.options().fitCache ? c.options().fitCache->findLevelSet(key) : nullptr;
     if (!levelSet) {
         // The block bounds and the surface's voxels may take half of memory.
-        const double memory = double(sysconf(_SC_PHYS_PAGES)) * double(sysconf(_SC_PAGESIZE));
         try {
-            levelSet = std::make_shared<const VdbLevelSet>(openVdbLibrary().readLevelSet(path, grid, 0.5 * memory));
+            levelSet = std::make_shared<const VdbLevelSet>(openVdbLibrary().readLevelSet(path, grid, 0.5 * physicalMemoryBytes()));
         } catch (const std::exception& e) {
             throw InputError(c.file(), where, path + ": " + e.what());
         }

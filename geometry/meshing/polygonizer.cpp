@@ -4,11 +4,11 @@
 #include <chrono>
 #include <cmath>
 #include <stdexcept>
-#include <unistd.h>
 
 #include "geometry/meshing/mesh_analysis.h"
 #include "geometry/meshing/mesh_refiner.h"
 #include "geometry/meshing/mesh_simplifier.h"
+#include "geometry/physical_memory.h"
 
 namespace isotrace::geometry {
 
@@ -22,12 +22,10 @@ constexpr double kAdaptiveReach = 4.0;
 /// Refinement leaves edges shorter than this fraction of an extraction cell.
 constexpr double kMinEdgeFraction = 1.0 / 64.0;
 
-double physicalMemory() { return double(sysconf(_SC_PHYS_PAGES)) * double(sysconf(_SC_PAGESIZE)); }
-
 void checkResolution(int resolution) {
     if (resolution <= 0) throw std::invalid_argument("resolution must be at least 1, found " + std::to_string(resolution));
     const double bytes = estimatePolygonizeBytes(resolution);
-    if (resolution > kMaxPolygonizeResolution || bytes > 0.5 * physicalMemory())
+    if (resolution > kMaxPolygonizeResolution || bytes > 0.5 * physicalMemoryBytes())
         throw std::invalid_argument("resolution " + std::to_string(resolution) + " needs about " +
                                     std::to_string(bytes / double(1 << 30)) +
                                     " GiB for a surface as large as its bounding box's faces; the limit is " +

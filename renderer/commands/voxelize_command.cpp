@@ -18,6 +18,7 @@
 #include "geometry/mesh_file.h"
 #include "geometry/meshing/polygonizer.h"
 #include "geometry/openvdb_library.h"
+#include "geometry/physical_memory.h"
 #include "renderer/commands/command.h"
 #include "renderer/field_hosting.h"
 #include "renderer/image/image_output.h"
@@ -36,8 +37,6 @@ struct VoxelizeCommand {
 };
 
 constexpr int kDefaultResolution = 256;
-
-double physicalMemory() { return double(sysconf(_SC_PHYS_PAGES)) * double(sysconf(_SC_PAGESIZE)); }
 
 // A surface as large as the six faces of its box crosses about 6 R^2 cells;
 // the band holds 2 w voxels across it, each about 8 bytes in OpenVDB's leaves
@@ -64,7 +63,7 @@ int runVoxelize(const VoxelizeCommand& cmd) {
     // at most one voxel.
     const double cells = std::ceil(longest / wanted);
     const double bytes = cells <= geometry::kMaxPolygonizeResolution ? estimateVoxelizeBytes(int(cells), cmd.halfWidth) : INFINITY;
-    if (!(bytes <= 0.5 * physicalMemory())) {
+    if (!(bytes <= 0.5 * geometry::physicalMemoryBytes())) {
         char message[320];
         std::snprintf(message, sizeof message,
                       "a voxel size of %g makes %.0f voxels along the field's longest side (%g): about %.1f GiB for a "
