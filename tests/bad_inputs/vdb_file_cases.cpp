@@ -126,6 +126,9 @@ std::vector<BadInputCase> vdbFileCases() {
     add(makeCase("voxelize_voxel_size_nan", "voxelize small.json --field ball -o out.vdb --voxel-size nan", {"--voxel-size"}));
     add(makeCase("voxelize_voxel_size_negative", "voxelize small.json --field ball -o out.vdb --voxel-size -1",
                  {"--voxel-size"}));
+    add(makeCase("voxelize_resolution_zero", "voxelize small.json --field ball -o out.vdb --resolution 0", {"--resolution"}));
+    add(makeCase("voxelize_threads_zero", "voxelize small.json --field ball -o out.vdb --threads 0", {"--threads"}));
+    add(makeCase("voxelize_missing_folder", "voxelize small.json --field ball -o nowhere/out.vdb", {"nowhere"}));
     add(makeCase("voxelize_half_width_zero", "voxelize small.json --field ball -o out.vdb --half-width 0", {"--half-width"}));
     add(makeCase("voxelize_grid_empty", "voxelize small.json --field ball -o out.vdb --grid ''", {"--grid"}));
     add(makeCase("voxelize_voxels_past_memory", "voxelize small.json --field ball -o out.vdb --voxel-size 1e-7",
