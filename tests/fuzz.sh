@@ -15,7 +15,8 @@ targets=("$@")
 ((${#targets[@]})) || targets=(field_description scene_loader mesh_file point_set saved_fit image)
 command -v clang++ >/dev/null || { echo "fuzz.sh: needs clang (Debian: apt-get install clang)" >&2; exit 2; }
 bash tests/sanitize.sh --build
-export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1
+# intercept_tls_get_addr=0: see tests/sanitize.sh.
+export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:intercept_tls_get_addr=0
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 export LSAN_OPTIONS=suppressions=$PWD/tests/sanitizer_suppressions.txt:print_suppressions=0
 run() {
