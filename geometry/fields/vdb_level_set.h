@@ -41,11 +41,6 @@ public:
     /// fastest), and the cell's offset in it; null where the block's range
     /// holds no zero (no surface crosses it) or the cell lies beyond the blocks.
     const float* footprintOf(const Eigen::Vector3i& cell, int& offset) const {
-        float unused;
-        return footprintOf(cell, offset, unused);
-    }
-    /// The same, with the block's gradient bound (values per voxel).
-    const float* footprintOf(const Eigen::Vector3i& cell, int& offset, float& gradient) const {
         size_t index = 0, stride = 1;
         offset = 0;
         int offsetStride = 1;
@@ -59,7 +54,6 @@ public:
             offsetStride *= kFootprintSide;
         }
         const uint32_t f = grid_.footprintOf[index];
-        gradient = grid_.blocks[index].gradient;
         return f == kNoFootprint ? nullptr : grid_.footprints.data() + size_t(f) * kFootprintVoxels;
     }
     /// The corners of a cell of a footprint, at `offset`.
