@@ -294,6 +294,36 @@ uint32_t makePolynomial(Compiler& c, JsonObjectReader& r, const LeafPlacement& p
 
 // ---- blobs, distance and convolution surfaces ----------------------------
 
+// A blob's core box and frame (Blender's metaball elements): `half_size`
+// (0 to 1e6 each), and `axes`, the blob's own x, y and z axes in the
+// field's space, any lengths, not (nearly) linearly dependent.
+BlobShape readBlobShape(JsonObjectReader& b) {
+    BlobShape shape;
+    shape.halfSize = b.vec3("half_size", Vec3::Zero());
+    if (!(shape.halfSize.array() >= 0.0).all() || !(shape.halfSize.array() <= 1e6).all())
+        b.fail("half_size", "every half size must be between 0 and 1e6");
+    if (const Json* axes = b.optionalValue("axes")) {
+        const std::string pointer = b.pointerOf("axes");
+        if (!axes->is_array() || axes->size() != 3)
+            throw InputError(b.file(), pointer, "expected three axes: [[x, y, z], [x, y, z], [x, y, z]]");
+        Mat3 toWorld;
+        for (int i = 0; i < 3; ++i) toWorld.col(i) = JsonObjectReader::asVec3((*axes)[size_t(i)], jsonPointerAppend(pointer, size_t(i)), b.file());
+        const double lengths = toWorld.col(0).norm() * toWorld.col(1).norm() * toWorld.col(2).norm();
+        if (!(lengths > 0.0) || !(std::abs(toWorld.determinant()) > 1e-9 * lengths) || !(lengths < 1e18))
+            throw InputError(b.file(), pointer, "the axes must be three vectors that are not (nearly) in one plane");
+        shape.toLocal = toWorld.inverse();
+    }
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#endif
+    shape.stretch = Eigen::JacobiSVD<Mat3>(shape.toLocal).singularValues()(0);
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic pop
+#endif
+    return shape;
+}
+
 uint32_t makeBlobby(Compiler& c, JsonObjectReader& r, const LeafPlacement& p) {
     BlobbyField f;
     const std::string kernel = r.choice("kernel", {"blinn", "metaball", "soft", "poly6"}, "metaball");
@@ -307,11 +337,18 @@ uint32_t makeBlobby(Compiler& c, JsonObjectReader& r, const LeafPlacement& p) {
     const Json& blobs = r.value("blobs");
     const std::string pointer = r.pointerOf("blobs");
     if (!blobs.is_array() || blobs.empty()) throw InputError(c.file(), pointer, "expected a non-empty array of blobs");
+    auto shapes = std::make_shared<std::vector<BlobShape>>();
     for (size_t i = 0; i < blobs.size(); ++i) {
         JsonObjectReader b(blobs[i], jsonPointerAppend(pointer, i), c.file());
-        f.blobs.push_back({b.vec3("center"), b.positiveNumber("radius"), b.number("weight", 1.0)});
+        Blob blob{b.vec3("center"), b.positiveNumber("radius"), b.number("weight", 1.0)};
+        if (b.has("half_size") || b.has("axes")) {
+            blob.shape = uint32_t(shapes->size());
+            shapes->push_back(readBlobShape(b));
+        }
+        f.blobs.push_back(blob);
         b.finish();
     }
+    if (!shapes->empty()) f.shapes = std::move(shapes);
     return c.program.addLeaf(std::move(f), p);
 }
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace isotrace::geometry {
 
@@ -81,9 +82,54 @@ double BlobbyField::maxKernelSlope(double a0, double a1) const {
     return std::max(std::abs(kernelSlope(a0)), std::abs(kernelSlope(a1)));
 }
 
+namespace {
+// The offset from the shape's core box to q (zero inside the core).
+Vec3 offsetFromCore(const BlobShape& shape, const Vec3& q) {
+    return q - q.cwiseMax(-shape.halfSize).cwiseMin(shape.halfSize);
+}
+}  // namespace
+
+double BlobbyField::distanceTo(const Blob& b, const Vec3& p) const {
+    if (b.shape == kRoundBlob) return (p - b.center).norm();
+    const BlobShape& shape = (*shapes)[b.shape];
+    return offsetFromCore(shape, shape.toLocal * (p - b.center)).norm();
+}
+
+double BlobbyField::distanceTo(const Blob& b, const Vec3& p, Vec3& gradient) const {
+    Vec3 offset = p - b.center;
+    const BlobShape* shape = b.shape == kRoundBlob ? nullptr : &(*shapes)[b.shape];
+    if (shape) offset = offsetFromCore(*shape, shape->toLocal * offset);
+    const double r = offset.norm();
+    gradient = Vec3::Zero();
+    if (r > 0) gradient = shape ? Vec3(shape->toLocal.transpose() * offset / r) : Vec3(offset / r);
+    return r;
+}
+
+Interval BlobbyField::distanceRange(const Blob& b, const Box3& box) const {
+    if (b.shape == kRoundBlob) return box.distanceRange(b.center);
+    if (!box.isFinite()) return {0.0, std::numeric_limits<double>::infinity()};
+    // The box's image in the blob's frame, bounded by a box (interval
+    // matrix product); r separates into one term per axis, so its extremes
+    // over that box are the per-axis extremes.
+    const BlobShape& shape = (*shapes)[b.shape];
+    const Vec3 center = (shape.toLocal * (box.center() - b.center)).cwiseAbs();
+    const Vec3 half = shape.toLocal.cwiseAbs() * (0.5 * box.extent());
+    return {(center - half - shape.halfSize).cwiseMax(0.0).norm(), (center + half - shape.halfSize).cwiseMax(0.0).norm()};
+}
+
+double BlobbyField::distanceLipschitz(const Blob& b) const {
+    return b.shape == kRoundBlob ? 1.0 : (*shapes)[b.shape].stretch;
+}
+
+Vec3 BlobbyField::termGradient(const Blob& b, const Vec3& p) const {
+    Vec3 gradient;
+    const double r = distanceTo(b, p, gradient);
+    return (b.weight * kernelSlope(r / b.radius) / b.radius) * gradient;
+}
+
 double BlobbyField::value(const Vec3& p) const {
     double sum = 0.0;
-    for (const Blob& b : blobs) sum += b.weight * kernelValue((p - b.center).norm() / b.radius);
+    for (const Blob& b : blobs) sum += b.weight * kernelValue(distanceTo(b, p) / b.radius);
     return threshold - sum;
 }
 
@@ -91,11 +137,10 @@ double BlobbyField::valueAndGradient(const Vec3& p, Vec3& gradient) const {
     double sum = 0.0;
     gradient = Vec3::Zero();
     for (const Blob& b : blobs) {
-        const Vec3 d = p - b.center;
-        const double r = d.norm();
-        const double a = r / b.radius;
+        Vec3 distanceGradient;
+        const double a = distanceTo(b, p, distanceGradient) / b.radius;
         sum += b.weight * kernelValue(a);
-        if (r > 0) gradient -= (b.weight * kernelSlope(a) / (b.radius * r)) * d;
+        gradient -= (b.weight * kernelSlope(a) / b.radius) * distanceGradient;
     }
     return threshold - sum;
 }
@@ -103,7 +148,7 @@ double BlobbyField::valueAndGradient(const Vec3& p, Vec3& gradient) const {
 Interval BlobbyField::range(const Box3& box) const {
     Interval sum(0.0);
     for (const Blob& b : blobs) {
-        const Interval r = box.distanceRange(b.center);
+        const Interval r = distanceRange(b, box);
         // Kernels decrease with distance.
         sum += b.weight * Interval(kernelValue(r.hi / b.radius), kernelValue(r.lo / b.radius));
     }
@@ -113,8 +158,8 @@ Interval BlobbyField::range(const Box3& box) const {
 double BlobbyField::lipschitz(const Box3& box) const {
     double sum = 0.0;
     for (const Blob& b : blobs) {
-        const Interval r = box.distanceRange(b.center);
-        sum += std::abs(b.weight) * maxKernelSlope(r.lo / b.radius, r.hi / b.radius) / b.radius;
+        const Interval r = distanceRange(b, box);
+        sum += std::abs(b.weight) * maxKernelSlope(r.lo / b.radius, r.hi / b.radius) * distanceLipschitz(b) / b.radius;
     }
     return sum;
 }
@@ -123,8 +168,17 @@ Box3 BlobbyField::bounds() const {
     // With T > 0 the field is positive wherever no positive blob reaches.
     if (threshold <= 0) return Box3::everything();
     Box3 box;
-    for (const Blob& b : blobs)
-        if (b.weight > 0) box.extend(Box3::around(b.center, b.radius * support()));
+    for (const Blob& b : blobs) {
+        if (b.weight <= 0) continue;
+        const double reach = b.radius * support();
+        if (b.shape == kRoundBlob) {
+            box.extend(Box3::around(b.center, reach));
+        } else {
+            const BlobShape& shape = (*shapes)[b.shape];
+            const Vec3 core = shape.halfSize + Vec3::Constant(reach);
+            box.extend(transformBox(shape.toLocal.inverse(), b.center, Box3(-core, core)));
+        }
+    }
     return box;
 }
 
@@ -132,11 +186,12 @@ BlobbyField BlobbyField::prunedTo(const Box3& box) const {
     // Kept: the blobs whose support reaches into the box. Counted first so
     // that the list is allocated once (cells are pruned by the thousand).
     auto reaches = [&](const Blob& b) {
-        const Vec3 outside = (box.lower - b.center).cwiseMax(b.center - box.upper).cwiseMax(0.0);
         const double reach = b.radius * support();
+        if (b.shape != kRoundBlob) return distanceRange(b, box).lo < reach;
+        const Vec3 outside = (box.lower - b.center).cwiseMax(b.center - box.upper).cwiseMax(0.0);
         return outside.squaredNorm() < reach * reach;
     };
-    BlobbyField out{kernel, threshold, blobbiness, {}};
+    BlobbyField out{kernel, threshold, blobbiness, {}, shapes};
     out.blobs.reserve(size_t(std::count_if(blobs.begin(), blobs.end(), reaches)));
     for (const Blob& b : blobs)
         if (reaches(b)) out.blobs.push_back(b);

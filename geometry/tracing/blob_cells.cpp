@@ -1,5 +1,6 @@
 #include "geometry/tracing/blob_cells.h"
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -13,6 +14,63 @@ namespace {
 Monomials<3> kernelInSquaredRadius(BlobKernel kernel) {
     if (kernel == BlobKernel::Poly6) return {1.0, -3.0, 3.0, -1.0};  // (1 - q)^3
     return {1.0, -22.0 / 9.0, 17.0 / 9.0, -4.0 / 9.0};             // Wyvill's soft object
+}
+
+// Adds -w k(r / R) of a shaped blob along the segment p0 + u D, u in [0, 1].
+// In the blob's frame the point moves on a line, and each axis's offset
+// from the core is linear in u between the points where the line crosses
+// the core's faces, so r^2 is a quadratic in u on each piece (at most 7)
+// and the term one polynomial of degree 6 where r < R.
+bool addShapedTerm(SegmentPolynomialSum<6>& sum, const Monomials<3>& kernel, const Blob& b, const BlobShape& shape,
+                   const Vec3& p0, const Vec3& D) {
+    const Vec3 q0 = shape.toLocal * (p0 - b.center), dq = shape.toLocal * D;
+    const Vec3& h = shape.halfSize;
+    double cuts[8];
+    int n = 0;
+    cuts[n++] = 0.0;
+    for (int axis = 0; axis < 3; ++axis) {
+        if (!(h[axis] > 0.0) || dq[axis] == 0.0) continue;
+        for (const double face : {-h[axis], h[axis]}) {
+            const double u = (face - q0[axis]) / dq[axis];
+            if (u > 0.0 && u < 1.0) cuts[n++] = u;
+        }
+    }
+    cuts[n++] = 1.0;
+    std::sort(cuts, cuts + n);
+    const double R2 = b.radius * b.radius;
+    bool reached = false;
+    for (int k = 0; k + 1 < n; ++k) {
+        const double from = cuts[k], to = cuts[k + 1];
+        if (!(to > from)) continue;
+        // r^2 = c0 + c1 u + c2 u^2 on this piece: the axes outside the core
+        // in its middle contribute (q - face)^2.
+        const double middle = 0.5 * (from + to);
+        double c0 = 0.0, c1 = 0.0, c2 = 0.0;
+        for (int axis = 0; axis < 3; ++axis) {
+            const double q = q0[axis] + middle * dq[axis];
+            if (q >= -h[axis] && q <= h[axis]) continue;
+            const double g0 = q0[axis] - (q > 0.0 ? h[axis] : -h[axis]);
+            c0 += g0 * g0;
+            c1 += 2.0 * g0 * dq[axis];
+            c2 += dq[axis] * dq[axis];
+        }
+        double enter = from, leave = to;
+        if (c2 > 0.0) {
+            const double disc = c1 * c1 - 4.0 * c2 * (c0 - R2);
+            if (!(disc > 0.0)) continue;
+            const double root = std::sqrt(disc);
+            enter = std::max(from, (-c1 - root) / (2.0 * c2));
+            leave = std::min(to, (-c1 + root) / (2.0 * c2));
+        } else if (!(c0 < R2)) {
+            continue;
+        }
+        if (!(leave > enter)) continue;
+        Monomials<6> term = composeWithQuadratic<3>(kernel, c0 / R2, c1 / R2, c2 / R2);
+        for (double& c : term) c *= -b.weight;
+        sum.add(term, enter, leave);
+        reached = true;
+    }
+    return reached;
 }
 
 // One part: an octant of the cell that may hold surface, with the blobs
@@ -48,6 +106,10 @@ public:
         const double DD = D.squaredNorm();
         for (uint32_t i = part.first; i < part.first + part.count; ++i) {
             const Blob& b = blobs_[i];
+            if (b.shape != kRoundBlob) {
+                r.evaluations += addShapedTerm(sum, kernel_, b, (*field_.shapes)[b.shape], p0, D);
+                continue;
+            }
             // a^2 along the segment: (|r0|^2 + 2 u r0.D + u^2 DD) / R^2.
             const Vec3 r0 = p0 - b.center;
             const double R2 = b.radius * b.radius, r0D = r0.dot(D);
@@ -68,12 +130,7 @@ public:
         // The gradient from the part's blobs (all that reach the hit).
         const Vec3 p = o + r.t * d;
         Vec3 gradient = Vec3::Zero();
-        for (uint32_t i = part.first; i < part.first + part.count; ++i) {
-            const Blob& b = blobs_[i];
-            const Vec3 offset = p - b.center;
-            const double distance = offset.norm();
-            if (distance > 0) gradient -= (b.weight * field_.kernelSlope(distance / b.radius) / (b.radius * distance)) * offset;
-        }
+        for (uint32_t i = part.first; i < part.first + part.count; ++i) gradient -= field_.termGradient(blobs_[i], p);
         r.gradientKnown = true;
         r.gradient = worldGradient(placement_, gradient);
         return r;
@@ -82,7 +139,7 @@ public:
 private:
     Monomials<3> kernel_;
     double threshold_;
-    BlobbyField field_;  ///< the kernel's settings (its blobs live in the parts)
+    BlobbyField field_;  ///< the kernel's settings and shapes (its blobs live in the parts)
     LeafPlacement placement_;
     std::vector<BlobPart> parts_;
     std::vector<Blob> blobs_;

@@ -5,7 +5,9 @@
 // T - sum w_i k_i is one between the points where the ray enters or leaves
 // a ball. Its first root is isolated exactly (segment_polynomial.h): each
 // blob the ray passes through is turned into a polynomial once, instead of
-// being evaluated at every step.
+// being evaluated at every step. A shaped blob (a segment, rectangle or box
+// core in its own frame) is such a polynomial on each of the up to seven
+// pieces between the points where the ray crosses its core's face planes.
 #pragma once
 
 #include "geometry/tracing/cell_accelerator.h"

@@ -55,6 +55,13 @@ inline std::vector<CatalogEntry> fieldCatalog() {
         {"blobby_poly6", R"({"type": "blobby", "kernel": "poly6", "threshold": 0.25, "blobs": [
             {"center": [-0.4, 0, 0], "radius": 1.1}, {"center": [0.5, 0.1, 0], "radius": 0.9},
             {"center": [0, 0.4, 0.3], "radius": 0.7, "weight": -0.2}]})"},
+        {"blobby_elements", R"({"type": "blobby", "kernel": "poly6", "threshold": 0.3, "blobs": [
+            {"center": [-0.5, 0, 0], "radius": 0.7},
+            {"center": [0.3, 0.2, 0], "radius": 0.5, "half_size": [0.4, 0, 0], "axes": [[0.8, 0.6, 0], [-0.6, 0.8, 0], [0, 0, 1]]},
+            {"center": [0, -0.4, 0.2], "radius": 0.4, "half_size": [0.3, 0.2, 0]},
+            {"center": [0.1, 0.1, -0.4], "radius": 0.4, "half_size": [0.2, 0.2, 0.15], "axes": [[1, 0.2, 0], [0, 1, 0.3], [0, 0, 1.2]]},
+            {"center": [-0.2, 0.5, 0.1], "radius": 0.5, "axes": [[1.4, 0, 0], [0, 0.7, 0], [0, 0, 1]]},
+            {"center": [-0.3, 0.1, 0.4], "radius": 0.4, "weight": -0.5, "half_size": [0.2, 0, 0]}]})"},
         {"distance_polyline", R"({"type": "distance", "points": [[-0.8, 0, 0], [0, 0.5, 0], [0.7, -0.2, 0.3]], "radius": 0.2})"},
         {"distance_circle", R"({"type": "distance", "circle": {"center": [0, 0.1, 0], "normal": [1, 1, 0], "radius": 0.7}, "radius": 0.15})"},
         {"convolution", R"({"type": "convolution", "threshold": 0.5, "segments": [
