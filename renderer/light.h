@@ -1,4 +1,4 @@
-// Light sources. Point and directional lights are delta lights; area lights
+// Light sources. Point, spot and directional lights are delta lights; area lights
 // are emissive triangles sampled by area (quads, disks and emissive meshes);
 // the environment surrounds the scene. Each type is one file in lights/,
 // listed in lights/light_types.cpp.

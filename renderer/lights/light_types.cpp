@@ -5,6 +5,7 @@
 namespace isotrace {
 
 void readPointLight(geometry::JsonObjectReader& r, SceneBuilder& builder, size_t index);
+void readSpotLight(geometry::JsonObjectReader& r, SceneBuilder& builder, size_t index);
 void readDirectionalLight(geometry::JsonObjectReader& r, SceneBuilder& builder, size_t index);
 void readQuadLight(geometry::JsonObjectReader& r, SceneBuilder& builder, size_t index);
 void readDiskLight(geometry::JsonObjectReader& r, SceneBuilder& builder, size_t index);
@@ -13,6 +14,7 @@ void readEnvironmentLight(geometry::JsonObjectReader& r, SceneBuilder& builder, 
 const Registry<LightFactory>& lightRegistry() {
     static const Registry<LightFactory> registry({
         {"point", readPointLight},
+        {"spot", readSpotLight},
         {"directional", readDirectionalLight},
         {"quad", readQuadLight},
         {"disk", readDiskLight},

@@ -126,7 +126,7 @@ std::vector<BadInputCase> sceneFileCases() {
     add(renderOf("integrator_unknown", smallWith("/integrator", R"({"type": "bidirectional"})"), {"/integrator/type"}));
     add(renderOf("material_unknown_type", smallWith("/materials/clay/type", R"("velvet")"), {"/materials/clay/type"}));
     add(renderOf("field_unknown_type", smallWith("/fields/ball/type", R"("hypersphere")"), {"/fields/ball/type"}));
-    add(renderOf("light_unknown_type", smallWith("/lights/0/type", R"("spot")"), {"/lights/0/type"}));
+    add(renderOf("light_unknown_type", smallWith("/lights/0/type", R"("lamp")"), {"/lights/0/type"}));
     add(renderOf("film_unknown_sampler", smallWith("/film/sampler", R"("halton")"), {"/film/sampler"}));
     add(renderOf("filter_unknown_type", smallWith("/film/filter", R"({"type": "mitchell"})"), {"/film/filter/type"}));
 
@@ -308,6 +308,10 @@ std::vector<BadInputCase> sceneFileCases() {
         {"inline_mesh_repeated_vertex", "/objects/0", R"({"vertices": [0, 0, 0, 1, 0, 0, 0, 1, 0], "indices": [0, 1, 1], "material": "clay"})"},
         {"inline_mesh_vertex_1e300", "/objects/0", R"({"vertices": [0, 0, 0, 1e300, 0, 0, 0, 1, 0], "indices": [0, 1, 2], "material": "clay"})"},
         {"point_light_negative", "/lights/0", R"({"type": "point", "position": [0, 2, 0], "intensity": [-1, 1, 1]})"},
+        {"spot_cone_angle_zero", "/lights/0", R"({"type": "spot", "position": [0, 2, 0], "direction": [0, -1, 0], "cone_angle": 0})"},
+        {"spot_cone_angle_200", "/lights/0", R"({"type": "spot", "position": [0, 2, 0], "direction": [0, -1, 0], "cone_angle": 200})"},
+        {"spot_blend_above_one", "/lights/0", R"({"type": "spot", "position": [0, 2, 0], "direction": [0, -1, 0], "blend": 1.5})"},
+        {"spot_zero_direction", "/lights/0", R"({"type": "spot", "position": [0, 2, 0], "direction": [0, 0, 0]})"},
         {"directional_zero_direction", "/lights/0", R"({"type": "directional", "direction": [0, 0, 0], "irradiance": [1, 1, 1]})"},
         {"quad_parallel_edges", "/lights/0", R"({"type": "quad", "corner": [0, 2, 0], "edge1": [1, 0, 0], "edge2": [2, 0, 0], "radiance": [1, 1, 1]})"},
         {"disk_radius_zero", "/lights/0", R"({"type": "disk", "center": [0, 2, 0], "radius": 0, "radiance": [1, 1, 1]})"},
