@@ -336,6 +336,18 @@ private:
                 o.shape = it->second;
             }
         } else {
+            // One mesh per file and settings, shared by every object that
+            // uses it: objects placed by their transforms are instances of
+            // one Embree scene, not copies.
+            const std::string key = q.meshFile + "|" + (q.smooth ? "smooth" : "flat") + "|" +
+                                    (r.boolean("drop_degenerate", false) ? "drop" : "keep");
+            if (!q.meshFile.empty()) {
+                if (const auto it = meshFileIndex_.find(key); it != meshFileIndex_.end()) {
+                    o.shape = it->second;
+                    builder_.addObject(o);
+                    return;
+                }
+            }
             TriangleMesh mesh = std::move(q.mesh);
             if (!q.meshFile.empty()) {
                 try {
@@ -348,6 +360,7 @@ private:
             }
             if (q.smooth) mesh.computeSmoothNormals();
             o.shape = builder_.addMesh(std::move(mesh));
+            if (!q.meshFile.empty()) meshFileIndex_.emplace(key, o.shape);
         }
         builder_.addObject(o);
     }
@@ -412,6 +425,7 @@ private:
     std::map<std::string, int> surfaceIndex_;
     std::map<std::string, geometry::FieldProgram> shownPrograms_;  ///< compiled once per field
     std::map<std::string, int> meshIndex_;
+    std::map<std::string, int> meshFileIndex_;  ///< by file, smoothing and dropping
 };
 
 }  // namespace

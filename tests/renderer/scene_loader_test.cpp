@@ -2,6 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
+#include "renderer/render.h"
 #include "support/scene_files.h"
 
 using namespace isotrace;
@@ -204,4 +207,40 @@ TEST(SceneLoader, UnrepresentableRaysAreRefusedAtTheirKey) {
     expectError(sceneError(folder, scene(R"({"width": 8, "height": 8, "spp": 1})",
                                          R"([{"field": "ball", "material": "clay", "transform": {"scale": [1e-10, 1e5, 1e5]}}])")),
                 "/objects/0/transform", "single-precision rays");
+}
+
+// Objects that show the same mesh file share one mesh (Embree instances,
+// not copies), and the image is that of inline copies of the triangles
+// moved by hand.
+TEST(SceneLoader, ObjectsOfOneMeshFileShareOneMesh) {
+    TemporaryFolder folder;
+    folder.write("tri.obj", "v -0.5 -0.5 0\nv 0.5 -0.5 0\nv 0 0.5 0\nf 1 2 3\n");
+    std::string shared = "[", copied = "[";
+    for (int i = 0; i < 3; ++i) {
+        const double x = 1.2 * (i - 1);
+        const std::string translate = R"(, "transform": {"translate": [)" + std::to_string(x) + R"(, 0, 0]}})";
+        shared += std::string(i ? ", " : "") + R"({"mesh": "tri.obj", "material": "clay")" + translate;
+        copied += std::string(i ? ", " : "") + R"({"vertices": [)" + std::to_string(x - 0.5) + ", -0.5, 0, " +
+                  std::to_string(x + 0.5) + ", -0.5, 0, " + std::to_string(x) + R"(, 0.5, 0], "indices": [0, 1, 2], "material": "clay"})";
+    }
+    shared += R"(, {"mesh": "tri.obj", "material": "clay", "smooth": true, "transform": {"translate": [0, 1.2, 0]}}])";
+    copied += R"(, {"vertices": [-0.5, 0.7, 0, 0.5, 0.7, 0, 0, 1.7, 0], "indices": [0, 1, 2], "material": "clay", "smooth": true}])";
+    const std::string film = R"({"width": 48, "height": 32, "spp": 4})";
+    const auto instanced = isotrace::testing::loadSceneText(folder, scene(film, shared));
+    const auto copies = isotrace::testing::loadSceneText(folder, scene(film, copied));
+    ASSERT_EQ(instanced->objects.size(), 4u);
+    EXPECT_EQ(instanced->meshes.size(), 2u);  // flat and smooth: one each
+    EXPECT_EQ(copies->meshes.size(), 4u);
+    const Image a = render(*instanced, {.threads = 2, .seed = 1, .quiet = true});
+    const Image b = render(*copies, {.threads = 2, .seed = 1, .quiet = true});
+    ASSERT_EQ(a.rgb.size(), b.rgb.size());
+    double difference = 0, total = 0;
+    for (size_t i = 0; i < a.rgb.size(); ++i) {
+        difference += std::abs(a.rgb[i] - b.rgb[i]);
+        total += b.rgb[i];
+    }
+    // Instancing moves rays rather than triangles: single-precision round-off
+    // moves a few silhouette samples, nothing more.
+    EXPECT_LT(difference, 1e-3 * total);
+    EXPECT_GT(total, 0.0);
 }
