@@ -39,7 +39,7 @@ export LSAN_OPTIONS=suppressions=$PWD/tests/sanitizer_suppressions.txt:print_sup
 # Left out: the image regressions (above), the installed-package test,
 # whose consumer is built without the sanitizers and so cannot link the
 # instrumented library, and the whole-program runs on emulated CPUs, with
-# capped kernels, from the Debian package and on a Slurm farm (the plain
-# build runs them). (Sanitized tests run 3-10x slower: tests/CMakeLists.txt
+# capped kernels, from the Debian package, on a Slurm farm and in Blender
+# (the plain build runs them). (Sanitized tests run 3-10x slower: tests/CMakeLists.txt
 # gives them longer timeouts.)
-ctest --test-dir build-sanitize --output-on-failure -j2 -E 'SceneRegression|installed_geometry_package|OtherCpus|InstructionSetCaps|DebianPackage|SlurmFarm' "${shard[@]}"
+ctest --test-dir build-sanitize --output-on-failure -j2 -E 'SceneRegression|installed_geometry_package|OtherCpus|InstructionSetCaps|DebianPackage|SlurmFarm|Blender' "${shard[@]}"

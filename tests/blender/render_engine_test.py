@@ -1,0 +1,83 @@
+# The add-on renders a Blender scene of meshes, a metaball family with a
+# negative element, an implicit CSG subtraction, area, sun, point and spot
+# lights and Principled materials (diffuse, metal, glass); its image is bit
+# for bit that of `isotrace render` run on the scene it exported.
+import json
+import math
+import os
+import sys
+import unittest
+
+import bpy
+import addon_test_support as support
+
+
+def build_scene():
+    scene = support.empty_scene(80, 60)
+    scene.render.engine = "ISOTRACE"
+    settings = scene.isotrace
+    settings.samples, settings.max_depth, settings.threads, settings.seed = 4, 6, 2, 3
+    support.add_camera(scene, (0.5, -8.0, 3.5), (0, 0, 0.8))
+    white = support.principled("White", (0.8, 0.8, 0.8), specular=0.0)
+    metal = support.principled("Gold", (0.9, 0.7, 0.3), metallic=1.0, roughness=0.3)
+    glass = support.principled("Glass", transmission=1.0, roughness=0.0, ior=1.45)
+    plastic = support.principled("Red plastic", (0.7, 0.1, 0.1), roughness=0.4)
+    support.add_mesh(scene, bpy.ops.mesh.primitive_plane_add, white, size=20)
+    support.add_mesh(scene, bpy.ops.mesh.primitive_cube_add, metal, size=0.8, location=(-2.6, 0.5, 0.4))
+    sphere = support.add_mesh(scene, bpy.ops.mesh.primitive_uv_sphere_add, glass, radius=0.5, location=(-1.2, -1.5, 0.5))
+    bpy.ops.object.shade_smooth()
+    support.add_metaball_family(scene, plastic)
+    support.add_carved_box(scene, metal, (2.3, 0.0, 0.7))
+    support.add_light(scene, "Area", "AREA", (0, -1, 5), 400, size=2.0)
+    support.add_light(scene, "Sun", "SUN", (3, -2, 6), 1.5)
+    support.add_light(scene, "Point", "POINT", (-3, -3, 3), 300, shadow_soft_size=0.0)
+    support.add_light(scene, "Spot", "SPOT", (3, -3, 4), 500, target=(2.3, 0, 0.7), spot_size=math.radians(40),
+                      spot_blend=0.3, shadow_soft_size=0.0)
+    support.set_world_color(scene, (0.05, 0.06, 0.08))
+    return scene, sphere
+
+
+class RenderEngineTest(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.addon = support.install_addon()
+
+    def test_render_equals_a_direct_isotrace_render_of_the_exported_scene(self):
+        scene, _ = build_scene()
+        export = os.path.join(support.FOLDER, "export")
+        os.environ["ISOTRACE_BLENDER_KEEP_EXPORT"] = export
+        try:
+            through_blender = support.render_to(scene, "through_blender")
+        finally:
+            del os.environ["ISOTRACE_BLENDER_KEEP_EXPORT"]
+        with open(os.path.join(export, "scene.json")) as f:
+            exported = json.load(f)
+        # What the scene holds reached the file: traced fields, not meshes,
+        # for the metaballs and the CSG subtraction.
+        types = {name: field["type"] for name, field in exported["fields"].items()}
+        self.assertEqual(types.get("metaballs Blob"), "blobby")
+        self.assertEqual(types.get("object Carved"), "difference")
+        blobs = exported["fields"]["metaballs Blob"]["blobs"]
+        self.assertEqual(len(blobs), 4)
+        self.assertEqual(sum(b["weight"] < 0 for b in blobs), 1)
+        self.assertEqual(sorted(l["type"] for l in exported["lights"]), ["directional", "environment", "point", "quad", "spot"])
+        self.assertEqual(sorted(m["type"] for m in exported["materials"].values()),
+                         ["conductor", "dielectric", "diffuse", "plastic"])
+        self.assertNotIn("Cutter", [o["name"] for o in exported["objects"]])  # hidden in renders
+        # Blender's own polygonization of the metaballs is not exported beside them.
+        self.assertEqual([o for o in exported["objects"] if o["name"].startswith("Blob") and "field" not in o], [])
+        direct = os.path.join(support.FOLDER, "direct.exr")
+        run = support.isotrace("render", os.path.join(export, "scene.json"), "-o", direct, "--seed", "3",
+                               "--threads", "2", "--no-preview", "-q")
+        self.assertEqual(run.returncode, 0, run.stderr)
+        a, b = support.read_rgb(through_blender), support.read_rgb(direct)
+        self.assertEqual((a.width, a.height), (80, 60))
+        self.assertGreater(a.mean(), 0.01)
+        differing = sum(x != y for x, y in zip(a.rgb, b.rgb))
+        self.assertEqual(differing, 0, "values that differ between the two images")
+        self.assertEqual(len(a.rgb), len(b.rgb))
+
+
+if __name__ == "__main__":
+    result = unittest.main(argv=[sys.argv[0]], exit=False).result
+    sys.exit(0 if result.wasSuccessful() else 1)
