@@ -188,6 +188,8 @@ class _Exporter:
                                      '(isotrace directional lights are parallel)')
             return {"type": "directional", "direction": list(down), "irradiance": list(color * data.energy)}
         if data.type == "AREA":
+            # Cycles 3.4 gives an area light of power P the radiance P / (4 A)
+            # (its eval_fac, 0.25 / area), not P / (pi A).
             size_y = data.size_y if data.shape in {"RECTANGLE", "ELLIPSE"} else data.size
             ex, ey = linear @ Vector((data.size, 0, 0)), linear @ Vector((0, size_y, 0))
             if data.spread < math.pi - 1e-6:
@@ -196,14 +198,14 @@ class _Exporter:
             if data.shape in {"SQUARE", "RECTANGLE"}:
                 area = ex.cross(ey).length
                 return {"type": "quad", "corner": list(center - 0.5 * ex - 0.5 * ey), "edge1": list(ey),
-                        "edge2": list(ex), "radiance": list(color * (data.energy / (math.pi * area)))}
+                        "edge2": list(ex), "radiance": list(color * (data.energy / (4.0 * area)))}
             rx, ry = 0.5 * ex.length, 0.5 * ey.length
             if abs(rx - ry) > 1e-6 * max(rx, ry):
                 self.warnings.append(f'light "{obj.name}": an ellipse is exported as the disk of the same area')
             radius = math.sqrt(rx * ry)
             area = math.pi * radius * radius
             return {"type": "disk", "center": list(center), "normal": list(-ex.cross(ey).normalized()),
-                    "radius": radius, "radiance": list(color * (data.energy / (math.pi * area)))}
+                    "radius": radius, "radiance": list(color * (data.energy / (4.0 * area)))}
         self.warnings.append(f'light "{obj.name}": type {data.type} is not supported and is skipped')
         return None
 
@@ -307,7 +309,9 @@ class _Exporter:
             self.lights.append(environment)
         description = {
             "camera": camera,
-            "film": {"width": width, "height": height, "spp": settings.samples},
+            "film": {"width": width, "height": height, "spp": settings.samples,
+                     "filter": ({"type": "box", "radius": 0.5} if settings.pixel_filter == "BOX"
+                                else {"type": "gaussian", "radius": 1.5, "sigma": 0.5})},
             "integrator": {"type": settings.integrator, "max_depth": settings.max_depth},
             "materials": self.materials,
             "fields": self.fields,

@@ -7,6 +7,7 @@
 import math
 
 DEFAULT_NAME = "isotrace default"
+SMOOTH_ROUGHNESS = 0.032  # isotrace treats alpha = r^2 below 0.001 as smooth
 DEFAULT_MATERIAL = {"type": "diffuse", "albedo": [0.8, 0.8, 0.8]}
 
 
@@ -92,8 +93,12 @@ def convert_material(material, warnings):
                     "roughness": min(max(_value(node, "Roughness"), 0.0), 1.0),
                     "transmittance": _clamp01(_value(node, "Color"))}
         if node.type == "BSDF_GLOSSY":
-            return {"type": "conductor", "reflectance": [min(c, 0.999) for c in _clamp01(_value(node, "Color"))],
-                    "roughness": min(max(_value(node, "Roughness"), 0.0), 1.0)}
+            # Blender's Glossy has no Fresnel term: smooth, it is a mirror
+            # of its colour at every angle; rough, the nearest is a conductor.
+            color, roughness = _clamp01(_value(node, "Color")), min(max(_value(node, "Roughness"), 0.0), 1.0)
+            if roughness < SMOOTH_ROUGHNESS:
+                return {"type": "mirror", "reflectance": color}
+            return {"type": "conductor", "reflectance": [min(c, 0.999) for c in color], "roughness": roughness}
         warnings.append(f'material "{name}": its surface node "{node.name}" ({node.type}) cannot be mapped; '
                         'it is rendered diffuse in its viewport colour')
     elif material.use_nodes:

@@ -29,6 +29,9 @@ class IsotraceRenderSettings(bpy.types.PropertyGroup):
                                     ("whitted", "Whitted", "Direct light, mirrors and glass only: a quick preview")])
     max_depth: IntProperty(name="Max Depth", default=12, min=1, max=100000, description="Bounces, 1 = direct light only")
     threads: IntProperty(name="Threads", default=0, min=0, max=4096, description="Render threads (0: all cores)")
+    pixel_filter: EnumProperty(name="Pixel Filter", default="GAUSSIAN",
+                               items=[("GAUSSIAN", "Gaussian", "Gaussian of sigma 0.5 pixels over 1.5 pixels"),
+                                      ("BOX", "Box", "Each sample counts for its own pixel only")])
 
 
 FIELD_KINDS = [

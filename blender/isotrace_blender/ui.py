@@ -20,7 +20,7 @@ class RENDER_PT_isotrace(IsotracePanel, bpy.types.Panel):
         settings = context.scene.isotrace
         layout = self.layout
         layout.use_property_split = True
-        for name in ("samples", "seed", "integrator", "max_depth", "threads"):
+        for name in ("samples", "seed", "integrator", "max_depth", "threads", "pixel_filter"):
             layout.prop(settings, name)
 
 

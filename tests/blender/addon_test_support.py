@@ -30,6 +30,7 @@ def empty_scene(width=80, height=60):
     scene.render.resolution_percentage = 100
     scene.render.image_settings.file_format = "OPEN_EXR"
     scene.render.image_settings.color_depth = "32"
+    scene.render.image_settings.color_mode = "RGB"  # as isotrace writes them, for isotrace compare
     scene.view_settings.view_transform = "Standard"
     return scene
 
