@@ -77,6 +77,43 @@ class RenderEngineTest(unittest.TestCase):
         self.assertEqual(differing, 0, "values that differ between the two images")
         self.assertEqual(len(a.rgb), len(b.rgb))
 
+    def test_aovs_fill_blenders_passes(self):
+        try:
+            import OpenImageIO
+        except ImportError:
+            self.skipTest("python3-openimageio is not installed: the add-on fills only the Combined pass")
+        scene, _ = build_scene()
+        layer = scene.view_layers[0]
+        layer.use_pass_z = layer.use_pass_normal = layer.use_pass_diffuse_color = True
+        scene.render.image_settings.file_format = "OPEN_EXR_MULTILAYER"
+        export = os.path.join(support.FOLDER, "export_aov")
+        os.environ["ISOTRACE_BLENDER_KEEP_EXPORT"] = export
+        try:
+            through_blender = support.render_to(scene, "aov")
+        finally:
+            del os.environ["ISOTRACE_BLENDER_KEEP_EXPORT"]
+        direct = os.path.join(support.FOLDER, "direct_aov.exr")
+        run = support.isotrace("render", os.path.join(export, "scene.json"), "-o", direct, "--seed", "3",
+                               "--aov", "depth,normal,albedo,id,steps", "--no-preview", "-q")
+        self.assertEqual(run.returncode, 0, run.stderr)
+
+        def channels(path):
+            image = OpenImageIO.ImageBuf(path)
+            names = list(image.spec().channelnames)
+            pixels = image.get_pixels(OpenImageIO.FLOAT)
+            return {name: pixels[:, :, i] for i, name in enumerate(names)}
+
+        blender, isotrace = channels(through_blender), channels(direct)
+        pairs = {"ViewLayer.Depth.Z": "Z", "ViewLayer.Normal.X": "N.X", "ViewLayer.Normal.Z": "N.Z",
+                 "ViewLayer.DiffCol.R": "albedo.R", "ViewLayer.DiffCol.B": "albedo.B",
+                 "ViewLayer.isotrace Object.X": "id", "ViewLayer.isotrace Steps.X": "steps",
+                 "ViewLayer.Combined.G": "G"}
+        for ours, theirs in pairs.items():
+            self.assertIn(ours, blender, sorted(blender))
+            self.assertTrue((blender[ours] == isotrace[theirs]).all(), ours)
+        self.assertGreater(float(isotrace["steps"].max()), 0.0)
+        self.assertGreater(float(isotrace["albedo.R"].max()), 0.1)
+
 
 if __name__ == "__main__":
     result = unittest.main(argv=[sys.argv[0]], exit=False).result
