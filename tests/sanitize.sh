@@ -18,7 +18,7 @@ ISOTRACE_INSTALL_CLANG=1 bash .ci/setup
 if [ ! -f build-sanitize/build.ninja ]; then
   cmake -S . -B build-sanitize -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ \
     "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O2 -gline-tables-only -DNDEBUG" \
-    -DISOTRACE_SANITIZE=address,undefined -DISOTRACE_FUZZ=ON >/dev/null
+    -DISOTRACE_SANITIZE=address,undefined -DISOTRACE_FUZZ=ON -DISOTRACE_BENCH=OFF >/dev/null
 fi
 cmake --build build-sanitize -j2
 [ "${1:-}" = "--build" ] && exit 0
