@@ -114,6 +114,64 @@ class RenderEngineTest(unittest.TestCase):
         self.assertGreater(float(isotrace["steps"].max()), 0.0)
         self.assertGreater(float(isotrace["albedo.R"].max()), 0.1)
 
+    def test_instances_share_one_mesh(self):
+        scene = support.empty_scene(64, 48)
+        scene.render.engine = "ISOTRACE"
+        scene.isotrace.samples = 4
+        support.add_camera(scene, (0, -12, 6), (0, 0, 0))
+        grey = support.principled("Grey", specular=0.0)
+        parts = bpy.data.collections.new("Parts")  # not in the scene: only its instances are
+        bpy.ops.mesh.primitive_cube_add(size=0.5)
+        cube = bpy.context.active_object
+        cube.data.materials.append(grey)
+        scene.collection.objects.unlink(cube)
+        parts.objects.link(cube)
+        for i in range(40):
+            holder = bpy.data.objects.new(f"Instance {i}", None)
+            holder.instance_type = "COLLECTION"
+            holder.instance_collection = parts
+            holder.location = ((i % 8) - 3.5, (i // 8) - 2.0, 0.0)
+            holder.rotation_euler = (0.0, 0.0, 0.3 * i)
+            scene.collection.objects.link(holder)
+        support.set_world_color(scene, (1.0, 1.0, 1.0))
+        folder = os.path.join(support.FOLDER, "instances")
+        exported = self.addon.export.export_scene(bpy.context.evaluated_depsgraph_get(), folder)
+        with open(exported.scene_path) as f:
+            objects = json.load(f)["objects"]
+        self.assertEqual(len(objects), 40)
+        self.assertEqual(len({o["mesh"] for o in objects}), 1)  # one file, placed 40 times
+        self.assertEqual(len(os.listdir(os.path.join(folder, "meshes"))), 1)
+        # The same 40 cubes made real objects: the same image within noise.
+        instanced = support.read_rgb(support.render_to(scene, "instanced"))
+        bpy.ops.object.select_all(action="DESELECT")
+        for holder in [o for o in scene.objects if o.instance_type == "COLLECTION"]:
+            holder.select_set(True)
+        bpy.context.view_layer.objects.active = scene.objects["Instance 0"]
+        bpy.ops.object.duplicates_make_real()
+        copies = self.addon.export.export_scene(bpy.context.evaluated_depsgraph_get(), os.path.join(support.FOLDER, "copies"))
+        with open(copies.scene_path) as f:
+            self.assertEqual(len(json.load(f)["objects"]), 40)
+        real = support.read_rgb(support.render_to(scene, "real"))
+        self.assertAlmostEqual(instanced.mean(), real.mean(), delta=2e-3)
+        self.assertGreater(sum(abs(a - b) < 1e-3 for a, b in zip(instanced.rgb, real.rgb)), 0.98 * len(real.rgb))
+
+    def test_preview_mesh_is_the_polygonized_field(self):
+        scene = support.empty_scene()
+        ball = bpy.data.objects.new("Ball", bpy.data.meshes.new("Ball"))
+        ball.isotrace.field_kind = "PRIMITIVE"
+        ball.isotrace.primitive = "torus"
+        ball.isotrace.major_radius, ball.isotrace.minor_radius = 0.8, 0.2
+        scene.collection.objects.link(ball)
+        bpy.context.view_layer.objects.active = ball
+        self.assertEqual(bpy.ops.isotrace.update_preview(), {"FINISHED"})
+        vertices = [v.co for v in ball.data.vertices]
+        self.assertGreater(len(vertices), 100)
+        # A ring about the object's Z axis: radii from 0.6 to 1.0, heights within 0.2.
+        radii = [math.hypot(v.x, v.y) for v in vertices]
+        self.assertAlmostEqual(min(radii), 0.6, delta=0.02)
+        self.assertAlmostEqual(max(radii), 1.0, delta=0.02)
+        self.assertAlmostEqual(max(abs(v.z) for v in vertices), 0.2, delta=0.02)
+
 
 if __name__ == "__main__":
     result = unittest.main(argv=[sys.argv[0]], exit=False).result
