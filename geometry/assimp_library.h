@@ -5,6 +5,7 @@
 // it (bench/RESULTS.md, "Portable build").
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -18,6 +19,8 @@ namespace isotrace::geometry {
 struct MeshFileContents {
     struct Part {
         std::vector<Vec3> vertices;
+        /// The first texture coordinates (u, v) per vertex, or empty.
+        std::vector<std::array<float, 2>> uvs;
         std::vector<uint32_t> faceSizes;  ///< indices per face
         std::vector<uint32_t> indices;    ///< every face's indices, in order
     };

@@ -33,6 +33,10 @@ public:
                 const aiVector3D& p = am->mVertices[v];
                 part.vertices.emplace_back(p.x, p.y, p.z);
             }
+            if (const aiVector3D* uv = am->mTextureCoords[0]) {
+                part.uvs.reserve(am->mNumVertices);
+                for (unsigned v = 0; v < am->mNumVertices; ++v) part.uvs.push_back({uv[v].x, uv[v].y});
+            }
             part.faceSizes.reserve(am->mNumFaces);
             for (unsigned f = 0; f < am->mNumFaces; ++f) {
                 const aiFace& face = am->mFaces[f];

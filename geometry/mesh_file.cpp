@@ -118,7 +118,7 @@ void checkPlyHeader(const std::string& path, uintmax_t bytes) {
 
 }  // namespace
 
-IndexedMesh readMeshFile(const std::string& path) {
+IndexedMesh readMeshFile(const std::string& path, std::vector<std::array<float, 2>>* uvs) {
     std::error_code ec;
     if (!std::filesystem::is_regular_file(path, ec)) throw InputError(path, "", "mesh file not found");
     const std::string extension = lowercaseExtension(path);
@@ -135,6 +135,9 @@ IndexedMesh readMeshFile(const std::string& path) {
         throw InputError(path, "", std::string("cannot read mesh: ") + e.what());
     }
     IndexedMesh mesh;
+    bool everyPartHasUvs = !contents.parts.empty();
+    for (const MeshFileContents::Part& part : contents.parts) everyPartHasUvs &= part.uvs.size() == part.vertices.size();
+    if (uvs) uvs->clear();
     for (const MeshFileContents::Part& part : contents.parts) {
         const uint32_t base = static_cast<uint32_t>(mesh.vertices.size()), count = uint32_t(part.vertices.size());
         for (uint32_t v = 0; v < count; ++v) {
@@ -142,6 +145,12 @@ IndexedMesh readMeshFile(const std::string& path) {
             if (!p.allFinite())
                 throw InputError(path, "vertex " + std::to_string(v), "vertex coordinate is not a finite number");
             mesh.vertices.push_back(p);
+            if (uvs && everyPartHasUvs) {
+                const std::array<float, 2>& uv = part.uvs[v];
+                if (!std::isfinite(uv[0]) || !std::isfinite(uv[1]))
+                    throw InputError(path, "vertex " + std::to_string(v), "texture coordinate is not a finite number");
+                uvs->push_back(uv);
+            }
         }
         const uint32_t* face = part.indices.data();
         for (size_t f = 0; f < part.faceSizes.size(); face += part.faceSizes[f], ++f) {

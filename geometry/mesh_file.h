@@ -2,7 +2,9 @@
 // Assimp reads): polygons become fans, points and lines are dropped.
 #pragma once
 
+#include <array>
 #include <string>
+#include <vector>
 
 #include "geometry/indexed_mesh.h"
 
@@ -12,10 +14,12 @@ namespace isotrace::geometry {
 /// formats are chosen by.
 std::string lowercaseExtension(const std::string& path);
 
-/// Vertices and triangles of every mesh in the file, without normals.
-/// Missing or unreadable files, non-finite coordinates, out-of-range indices
-/// and files without triangles throw InputError naming the file and place.
-IndexedMesh readMeshFile(const std::string& path);
+/// Vertices and triangles of every mesh in the file, without normals; with
+/// `uvs`, also the texture coordinates (u, v) of every vertex, or none when
+/// a part of the file has none. Missing or unreadable files, non-finite
+/// coordinates, out-of-range indices and files without triangles throw
+/// InputError naming the file and place.
+IndexedMesh readMeshFile(const std::string& path, std::vector<std::array<float, 2>>* uvs = nullptr);
 
 struct MeshRepair {
     size_t weldedVertices = 0;   ///< vertices merged into one at the same place

@@ -36,6 +36,10 @@ struct ShadingPoint {
     /// Width of the pixel's footprint at the point, in object space (zero:
     /// a point lookup), so image textures filter over what a pixel sees.
     double footprint = 0.0;
+    /// Texture coordinates, on meshes that have them, and the footprint's width in them.
+    Eigen::Vector2d uv = Eigen::Vector2d::Zero();
+    bool hasUv = false;
+    double uvFootprint = 0.0;
 };
 
 /// Lobe kinds, combined as bits.

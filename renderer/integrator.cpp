@@ -48,7 +48,10 @@ ShadingPoint shadingPointOf(const Scene& scene, const SurfaceHit& hit, const Vec
     if (p.shadingNormal.dot(p.geometricNormal) < 0) p.shadingNormal = -p.shadingNormal;
     p.objectPosition = hit.objectPosition;
     p.objectNormal = hit.objectNormal;
+    p.uv = hit.uv;
+    p.hasUv = hit.hasUv;
     if (hit.object >= 0) p.footprint = footprint * scene.objects[hit.object].objectFromWorldScale;
+    p.uvFootprint = p.footprint * hit.uvPerLength;
     return p;
 }
 

@@ -185,11 +185,22 @@ bool Scene::intersect(const Ray& ray, double tMax, SurfaceHit& hit) const {
     hit.shadingNormal = hit.geometricNormal;
     hit.objectPosition = (o.objectFromWorld * hit.position.homogeneous()).head<3>();
     hit.objectNormal = ng.normalized();
+    hit.hasUv = false;
     if (o.kind == SceneObject::Kind::Mesh) {
         const TriangleMesh& mesh = *meshes[o.shape];
+        const uint32_t* idx = &mesh.indices[3 * hit.primitive];
+        const double u = rh.hit.u, v = rh.hit.v;
+        if (!mesh.uvs.empty()) {
+            auto uvOf = [&](uint32_t i) { return Eigen::Vector2d(mesh.uvs[2 * i], mesh.uvs[2 * i + 1]); };
+            hit.uv = (1 - u - v) * uvOf(idx[0]) + u * uvOf(idx[1]) + v * uvOf(idx[2]);
+            hit.hasUv = true;
+            // The square root of the triangle's area in uv over its area in
+            // object space: how far a pixel's footprint reaches in uv.
+            const Eigen::Vector2d e1 = uvOf(idx[1]) - uvOf(idx[0]), e2 = uvOf(idx[2]) - uvOf(idx[0]);
+            const double objectArea = (mesh.vertex(idx[1]) - mesh.vertex(idx[0])).cross(mesh.vertex(idx[2]) - mesh.vertex(idx[0])).norm();
+            hit.uvPerLength = objectArea > 0 ? std::sqrt(std::abs(e1.x() * e2.y() - e1.y() * e2.x()) / objectArea) : 0.0;
+        }
         if (!mesh.normals.empty()) {
-            const uint32_t* idx = &mesh.indices[3 * hit.primitive];
-            const double u = rh.hit.u, v = rh.hit.v;
             const Vec3 n = (1 - u - v) * mesh.normal(idx[0]) + u * mesh.normal(idx[1]) + v * mesh.normal(idx[2]);
             if (n.norm() > 0) {
                 hit.shadingNormal = (o.normalFromObject * n).normalized();

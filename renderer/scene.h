@@ -51,6 +51,10 @@ struct SurfaceHit {
     /// The point and normal in the object's own space (what textures see).
     Vec3 objectPosition = Vec3::Zero();
     Vec3 objectNormal = Vec3(0, 0, 1);
+    /// Texture coordinates interpolated over a mesh triangle that has them.
+    Eigen::Vector2d uv = Eigen::Vector2d::Zero();
+    bool hasUv = false;
+    double uvPerLength = 0.0;  ///< texture-coordinate units per object-space length on the triangle
     int object = -1;
     unsigned primitive = 0;
 };

@@ -306,6 +306,13 @@ private:
                     q.mesh.indices.push_back(idx[i].get<uint32_t>());
                 }
                 validateMesh(q.mesh, r, "indices");
+                if (r.has("uvs")) {
+                    const std::vector<double> uv = r.numbers("uvs");
+                    if (uv.size() != 2 * q.mesh.vertexCount())
+                        r.fail("uvs", "expected u v per vertex: " + std::to_string(2 * q.mesh.vertexCount()) +
+                                          " numbers, found " + std::to_string(uv.size()));
+                    for (double x : uv) q.mesh.uvs.push_back(float(x));
+                }
             }
             if (hasMesh) r.boolean("drop_degenerate", false);  // read again when the file is loaded
             q.smooth = r.boolean("smooth", false);

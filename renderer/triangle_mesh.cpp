@@ -1,5 +1,8 @@
 #include "renderer/triangle_mesh.h"
 
+#include <array>
+#include <functional>
+#include <unordered_map>
 
 #include "geometry/errors.h"
 #include "geometry/mesh_file.h"
@@ -34,9 +37,19 @@ size_t TriangleMesh::dropDegenerateTriangles() {
 }
 
 void TriangleMesh::computeSmoothNormals() {
+    // Each vertex sums into the first vertex at its place.
+    struct PlaceHash {
+        size_t operator()(const std::array<float, 3>& p) const {
+            return std::hash<float>()(p[0]) ^ (std::hash<float>()(p[1]) << 1) ^ (std::hash<float>()(p[2]) << 2);
+        }
+    };
+    std::unordered_map<std::array<float, 3>, uint32_t, PlaceHash> firstAt;
+    std::vector<uint32_t> place(vertexCount());
+    for (uint32_t v = 0; v < vertexCount(); ++v)
+        place[v] = firstAt.try_emplace({positions[3 * v], positions[3 * v + 1], positions[3 * v + 2]}, v).first->second;
     std::vector<Vec3> sum(vertexCount(), Vec3::Zero());
     for (size_t t = 0; t < triangleCount(); ++t) {
-        const uint32_t a = indices[3 * t], b = indices[3 * t + 1], c = indices[3 * t + 2];
+        const uint32_t a = place[indices[3 * t]], b = place[indices[3 * t + 1]], c = place[indices[3 * t + 2]];
         // The cross product's length is twice the area: area weighting for free.
         const Vec3 n = (vertex(b) - vertex(a)).cross(vertex(c) - vertex(a));
         sum[a] += n;
@@ -45,14 +58,18 @@ void TriangleMesh::computeSmoothNormals() {
     }
     normals.resize(positions.size());
     for (size_t v = 0; v < sum.size(); ++v) {
-        const Vec3 n = sum[v].norm() > 0 ? Vec3(sum[v].normalized()) : Vec3(0, 1, 0);
+        const Vec3& s = sum[place[v]];
+        const Vec3 n = s.norm() > 0 ? Vec3(s.normalized()) : Vec3(0, 1, 0);
         for (int k = 0; k < 3; ++k) normals[3 * v + k] = float(n[k]);
     }
 }
 
 TriangleMesh loadTriangleMesh(const std::string& path) {
-    const geometry::IndexedMesh read = geometry::readMeshFile(path);
+    std::vector<std::array<float, 2>> uvs;
+    const geometry::IndexedMesh read = geometry::readMeshFile(path, &uvs);
     TriangleMesh mesh;
+    mesh.uvs.reserve(2 * uvs.size());
+    for (const auto& uv : uvs) mesh.uvs.insert(mesh.uvs.end(), {uv[0], uv[1]});
     mesh.positions.reserve(3 * read.vertices.size());
     for (const Vec3& v : read.vertices) mesh.positions.insert(mesh.positions.end(), {float(v.x()), float(v.y()), float(v.z())});
     mesh.indices.reserve(3 * read.triangles.size());

@@ -16,6 +16,8 @@ struct TriangleMesh {
     std::vector<float> positions;   ///< x y z per vertex
     std::vector<uint32_t> indices;  ///< three per triangle
     std::vector<float> normals;     ///< x y z per vertex, or empty for flat shading
+    /// u v per vertex (texture coordinates, v up as in OBJ and Blender), or empty.
+    std::vector<float> uvs;
 
     size_t vertexCount() const { return positions.size() / 3; }
     size_t triangleCount() const { return indices.size() / 3; }
@@ -26,7 +28,9 @@ struct TriangleMesh {
     long firstDegenerateTriangle() const;
     /// Removes degenerate triangles; returns how many.
     size_t dropDegenerateTriangles();
-    /// Area-weighted vertex normals.
+    /// Area-weighted vertex normals, summed over every vertex at the same
+    /// place: vertices split only to carry different texture coordinates
+    /// (UV seams) get the same normal.
     void computeSmoothNormals();
 };
 

@@ -41,15 +41,24 @@ def safe_file_name(name):
     return re.sub(r"[^A-Za-z0-9_.-]+", "_", name)[:80] or "mesh"
 
 
-def write_ply(path, positions, triangles):
-    """A binary PLY of float positions (x, y, z, ...) and triangles (a, b, c, ...)."""
+def write_ply(path, positions, triangles, uvs=None):
+    """A binary PLY of float positions (x, y, z, ...), texture coordinates
+    (s, t, ...) when given, and triangles (a, b, c, ...)."""
+    count = len(positions) // 3
+    if uvs is not None:
+        interleaved = array("f", bytes(4 * 5 * count))
+        for k in range(3):
+            interleaved[k::5] = positions[k::3]
+        interleaved[3::5], interleaved[4::5] = uvs[0::2], uvs[1::2]
+        positions = interleaved
     if sys.byteorder != "little":
         positions, triangles = array("f", positions), array("i", triangles)
         positions.byteswap()
         triangles.byteswap()
     header = ("ply\nformat binary_little_endian 1.0\n"
-              f"element vertex {len(positions) // 3}\nproperty float x\nproperty float y\nproperty float z\n"
-              f"element face {len(triangles) // 3}\nproperty list uchar int vertex_indices\nend_header\n")
+              f"element vertex {count}\nproperty float x\nproperty float y\nproperty float z\n"
+              + ("property float s\nproperty float t\n" if uvs is not None else "")
+              + f"element face {len(triangles) // 3}\nproperty list uchar int vertex_indices\nend_header\n")
     raw = triangles.tobytes()
     with open(path, "wb") as f:
         f.write(header.encode("ascii"))
@@ -57,18 +66,23 @@ def write_ply(path, positions, triangles):
         f.write(b"".join(b"\x03" + raw[i:i + 12] for i in range(0, len(raw), 12)))
 
 
-def compacted(positions, triangles):
-    """The vertices `triangles` use, and the triangles renumbered to them."""
+def compacted(positions, triangles, corner_uvs=None):
+    """The vertices `triangles` use (one per vertex and texture coordinate:
+    UV seams split vertices), and the triangles renumbered to them; with
+    `corner_uvs` (u, v per triangle corner) also the vertices' uvs."""
     index = {}
-    kept = array("f")
+    kept, uvs = array("f"), array("f")
     renumbered = array("i", bytes(4 * len(triangles)))
     for k, v in enumerate(triangles):
-        new = index.get(v)
+        key = v if corner_uvs is None else (v, corner_uvs[2 * k], corner_uvs[2 * k + 1])
+        new = index.get(key)
         if new is None:
-            new = index[v] = len(index)
+            new = index[key] = len(index)
             kept.extend(positions[3 * v:3 * v + 3])
+            if corner_uvs is not None:
+                uvs.extend(corner_uvs[2 * k:2 * k + 2])
         renumbered[k] = new
-    return kept, renumbered
+    return kept, renumbered, (uvs if corner_uvs is not None else None)
 
 
 class _Exporter:
@@ -109,14 +123,18 @@ class _Exporter:
         # Objects without modifiers share their data's mesh; instances share
         # their object's.
         key = ("object:" + obj.original.name) if len(obj.modifiers) else ("data:" + obj.data.original.name)
+        with_uvs = any(materials.uses_uvs(self.materials[self.slot_material(obj, slot)])
+                       for slot in range(max(1, len(obj.material_slots))))
+        key += ":uv" if with_uvs else ""
         if key not in self.mesh_files:
-            self.mesh_files[key] = self.write_mesh(obj, key)
+            self.mesh_files[key] = self.write_mesh(obj, key, with_uvs)
         for file, slot, smooth in self.mesh_files[key]:
             self.add_object({"mesh": file, "material": self.slot_material(obj, slot), "smooth": smooth,
                              "drop_degenerate": True, "transform": {"matrix": rows(world)}}, obj.name)
 
-    def write_mesh(self, obj, key):
+    def write_mesh(self, obj, key, with_uvs):
         mesh = obj.to_mesh()
+        corner_uvs = None
         try:
             mesh.calc_loop_triangles()
             count = len(mesh.loop_triangles)
@@ -128,6 +146,17 @@ class _Exporter:
             mesh.loop_triangles.foreach_get("material_index", slots)
             smooth = [False] * count
             mesh.loop_triangles.foreach_get("use_smooth", smooth)
+            layer = next((l for l in mesh.uv_layers if l.active_render), None) if with_uvs else None
+            if with_uvs and layer is None:
+                self.warnings.append(f'object "{obj.name}" has image textures placed by UVs but no UV map')
+            if layer is not None:
+                loops = array("i", bytes(4 * 3 * count))
+                mesh.loop_triangles.foreach_get("loops", loops)
+                loop_uvs = array("f", bytes(4 * 2 * len(layer.data)))
+                layer.data.foreach_get("uv", loop_uvs)
+                corner_uvs = array("f", bytes(4 * 2 * len(loops)))
+                corner_uvs[0::2] = array("f", (loop_uvs[2 * l] for l in loops))
+                corner_uvs[1::2] = array("f", (loop_uvs[2 * l + 1] for l in loops))
         finally:
             obj.to_mesh_clear()
         files = []
@@ -135,14 +164,16 @@ class _Exporter:
         for slot in sorted(set(slots)):
             file = f"meshes/{safe_file_name(key)}_{len(self.mesh_files)}_{slot}.ply"
             chosen = [t for t in range(count) if slots[t] == slot]
-            if len(chosen) == count:
-                vertices, faces = positions, triangles
+            if len(chosen) == count and corner_uvs is None:
+                vertices, faces, uvs = positions, triangles, None
             else:
-                picked = array("i")
+                picked, picked_uvs = array("i"), array("f")
                 for t in chosen:
                     picked.extend(triangles[3 * t:3 * t + 3])
-                vertices, faces = compacted(positions, picked)
-            write_ply(os.path.join(self.folder, file), vertices, faces)
+                    if corner_uvs is not None:
+                        picked_uvs.extend(corner_uvs[6 * t:6 * t + 6])
+                vertices, faces, uvs = compacted(positions, picked, picked_uvs if corner_uvs is not None else None)
+            write_ply(os.path.join(self.folder, file), vertices, faces, uvs)
             files.append((file, slot, 2 * sum(smooth[t] for t in chosen) >= len(chosen)))
         return files
 

@@ -5,9 +5,13 @@
 # perceptual roughness in both. What cannot be mapped falls back to the
 # material's base (viewport) colour, with a warning naming the material.
 import math
+import os
+
+import bpy
 
 DEFAULT_NAME = "isotrace default"
-SMOOTH_ROUGHNESS = 0.032  # isotrace treats alpha = r^2 below 0.001 as smooth
+SMOOTH_ROUGHNESS = 0.032
+LINEAR_SPACES = {"Non-Color", "Linear", "Linear ACES", "Raw", "XYZ"}  # isotrace treats alpha = r^2 below 0.001 as smooth
 DEFAULT_MATERIAL = {"type": "diffuse", "albedo": [0.8, 0.8, 0.8]}
 
 
@@ -48,13 +52,39 @@ def _ior_from_specular(specular):
     return min((1 + root) / (1 - root), 10.0)
 
 
+def _image_texture(node, socket_name, name, warnings, scalar=False):
+    """The isotrace image texture an Image Texture node gives the socket
+    (placed by the mesh's UVs), or None with a warning."""
+    socket = node.inputs[socket_name]
+    source = socket.links[0].from_node if socket.is_linked else None
+    if source is None or source.type != "TEX_IMAGE" or source.image is None:
+        return None
+    image = source.image
+    path = bpy.path.abspath(image.filepath, library=image.library)
+    if not os.path.isfile(path):
+        warnings.append(f'material "{name}": image "{image.name}" of its {socket_name} is not a file on disk '
+                        '(packed or generated); its value is used instead')
+        return None
+    if source.inputs["Vector"].is_linked:
+        warnings.append(f'material "{name}": the mapping of its {socket_name} image is ignored (the UVs are used)')
+    if scalar and not (image.depth in (8, 16) and not image.is_float):
+        warnings.append(f'material "{name}": its {socket_name} image "{image.name}" is not one grey channel; '
+                        'its value is used instead')
+        return None
+    space = "linear" if image.colorspace_settings.name in LINEAR_SPACES else "srgb"
+    return {"type": "image", "file": os.path.abspath(path), "mapping": "uv", "color_space": space}
+
+
 def _principled(node, name, warnings):
     base = _clamp01(_value(node, "Base Color"))
     roughness = min(max(_value(node, "Roughness"), 0.0), 1.0)
+    base = _image_texture(node, "Base Color", name, warnings) or base
+    roughness = _image_texture(node, "Roughness", name, warnings, scalar=True) or roughness
     emission = _value(node, "Emission") or [0.0, 0.0, 0.0]
     strength = _value(node, "Emission Strength")
     strength = 1.0 if strength is None else strength
-    textured = _linked(node, ["Base Color", "Roughness", "Metallic", "Transmission", "Normal", "Emission"])
+    textured = [s for s in _linked(node, ["Base Color", "Roughness", "Metallic", "Transmission", "Normal", "Emission"])
+                if not (s == "Base Color" and isinstance(base, dict)) and not (s == "Roughness" and isinstance(roughness, dict))]
     if textured:
         warnings.append(f'material "{name}": inputs driven by other nodes ({", ".join(textured)}) are not exported; '
                         'their values as set in the Principled BSDF are used')
@@ -69,7 +99,8 @@ def _principled(node, name, warnings):
         ior = _value(node, "IOR")
         return {"type": "dielectric", "ior": min(max(ior, 1.0001), 10.0), "roughness": roughness, "transmittance": base}
     if metallic >= 0.5:
-        return {"type": "conductor", "reflectance": [min(c, 0.999) for c in base], "roughness": roughness}
+        reflectance = base if isinstance(base, dict) else [min(c, 0.999) for c in base]
+        return {"type": "conductor", "reflectance": reflectance, "roughness": roughness}
     specular = _value(node, "Specular")
     if specular <= 0:
         return {"type": "diffuse", "albedo": base}
@@ -104,3 +135,10 @@ def convert_material(material, warnings):
     elif material.use_nodes:
         warnings.append(f'material "{name}" has no surface shader; it is rendered diffuse in its viewport colour')
     return {"type": "diffuse", "albedo": _clamp01(list(material.diffuse_color)[:3])}
+
+
+def uses_uvs(description):
+    """Whether a material description holds a texture placed by UVs."""
+    if isinstance(description, dict):
+        return description.get("mapping") == "uv" or any(uses_uvs(v) for v in description.values())
+    return False

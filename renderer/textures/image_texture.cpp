@@ -1,6 +1,7 @@
 // "image": an image projected onto the surface along the three object axes
 // and blended by the normal (triplanar mapping), since implicit surfaces
-// have no UVs. Lookups go through OpenImageIO's TextureSystem (in the
+// have no UVs, or, with "mapping": "uv", placed by a mesh's texture
+// coordinates. Lookups go through OpenImageIO's TextureSystem (in the
 // module openImageIo() loads): MIP-mapped and filtered over the pixel's
 // footprint, tiles cached and shared.
 #include <cmath>
@@ -18,14 +19,25 @@ double srgbToLinear(double v) { return v <= 0.04045 ? v / 12.92 : std::pow((v + 
 
 class ImageTexture final : public Texture {
 public:
-    ImageTexture(const std::string& file, int channels, bool srgb, double scale, double sharpness, RGB minimum,
-                 RGB maximum)
-        : channels_(channels), srgb_(srgb), inverseScale_(1.0 / scale), sharpness_(sharpness), minimum_(minimum),
-          maximum_(maximum) {
+    ImageTexture(const std::string& file, int channels, bool srgb, bool uvMapping, double scale, double sharpness,
+                 RGB minimum, RGB maximum)
+        : channels_(channels), srgb_(srgb), uvMapping_(uvMapping), inverseScale_(1.0 / scale), sharpness_(sharpness),
+          minimum_(minimum), maximum_(maximum) {
         image_ = openImageIo().openTexture(file);
     }
 
     RGB evaluate(const ShadingPoint& p) const override {
+        // Surfaces without texture coordinates fall back to the projection.
+        if (uvMapping_ && p.hasUv) {
+            // v runs up the image, as in OBJ files and Blender; rows run down.
+            float texel[3] = {0, 0, 0};
+            image_->lookup(float(p.uv.x() * inverseScale_), float(1.0 - p.uv.y() * inverseScale_),
+                           float(p.uvFootprint * inverseScale_), channels_ == 1 ? 1 : 3, texel);
+            RGB value = channels_ == 1 ? RGB::Constant(texel[0]) : RGB(texel[0], texel[1], texel[2]);
+            if (srgb_)
+                for (int c = 0; c < 3; ++c) value[c] = srgbToLinear(value[c]);
+            return value;
+        }
         const Vec3 q = p.objectPosition * inverseScale_;
         const Vec3 n = p.objectNormal.cwiseAbs();
         // Blend weights |n_i|^sharpness: sharper seams as it grows.
@@ -56,6 +68,7 @@ private:
     std::unique_ptr<TextureImage> image_;
     int channels_;
     bool srgb_;
+    bool uvMapping_;
     double inverseScale_, sharpness_;
     RGB minimum_, maximum_;
 };
@@ -66,6 +79,8 @@ std::shared_ptr<const Texture> readImageTexture(geometry::JsonObjectReader& r, c
     const std::string name = r.string("file");
     const std::filesystem::path path = std::filesystem::path(name).is_absolute() ? std::filesystem::path(name)
                                                                                  : context.directory / name;
+    const bool uvMapping = r.choice("mapping", {"triplanar", "uv"}, "triplanar") == "uv";
+    const std::string colorSpace = r.choice("color_space", {"auto", "srgb", "linear"}, "auto");
     const double scale = r.positiveNumber("scale", 1.0);
     const double sharpness = r.positiveNumber("sharpness", 4.0);
     if (sharpness > 64) r.fail("sharpness", "must be at most 64");
@@ -101,13 +116,15 @@ std::shared_ptr<const Texture> readImageTexture(geometry::JsonObjectReader& r, c
     bool srgb = false;
     for (const auto& [name, value] : image.strings)
         if (name == "oiio:ColorSpace") srgb = value == "sRGB";
+    // Data maps (roughness) in PNG files are not colours: "linear" reads them as they are.
+    if (colorSpace != "auto") srgb = colorSpace == "srgb";
     RGB lowest, highest;
     for (int c = 0; c < 3; ++c) {
         const int source = channels == 1 ? 0 : c;
         lowest[c] = srgb ? srgbToLinear(minimum[source]) : minimum[source];
         highest[c] = srgb ? srgbToLinear(maximum[source]) : maximum[source];
     }
-    return std::make_shared<ImageTexture>(path.string(), channels, srgb, scale, sharpness, lowest, highest);
+    return std::make_shared<ImageTexture>(path.string(), channels, srgb, uvMapping, scale, sharpness, lowest, highest);
 }
 
 }  // namespace isotrace

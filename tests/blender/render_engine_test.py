@@ -155,6 +155,48 @@ class RenderEngineTest(unittest.TestCase):
         self.assertAlmostEqual(instanced.mean(), real.mean(), delta=2e-3)
         self.assertGreater(sum(abs(a - b) < 1e-3 for a, b in zip(instanced.rgb, real.rgb)), 0.98 * len(real.rgb))
 
+    def test_image_textures_follow_the_uvs(self):
+        scene = support.empty_scene(48, 48)
+        scene.render.engine = "ISOTRACE"
+        scene.isotrace.samples, scene.isotrace.pixel_filter = 16, "BOX"
+        support.add_camera(scene, (0, 0, 4), (0, 0, 0), lens=50)
+        # A 2 x 2 image: red and green on the top row, blue and white below.
+        image = bpy.data.images.new("Quadrants", 2, 2)
+        image.pixels = [0, 0, 1, 1, 1, 1, 1, 1,  # bottom row: blue, white
+                        1, 0, 0, 1, 0, 1, 0, 1]  # top row: red, green
+        image.filepath_raw = os.path.join(support.FOLDER, "quadrants.png")
+        image.file_format = "PNG"
+        image.save()
+        material = support.principled("Textured", specular=0.0)
+        nodes = material.node_tree.nodes
+        texture = nodes.new("ShaderNodeTexImage")
+        texture.image = image
+        texture.interpolation = "Closest"
+        material.node_tree.links.new(texture.outputs["Color"], nodes["Principled BSDF"].inputs["Base Color"])
+        plane = support.add_mesh(scene, bpy.ops.mesh.primitive_plane_add, material, size=2.0)
+        plane.rotation_euler = (0, 0, math.radians(90))  # the UVs turn with it
+        support.set_world_color(scene, (1.0, 1.0, 1.0))
+        folder = os.path.join(support.FOLDER, "textured")
+        exported = self.addon.export.export_scene(bpy.context.evaluated_depsgraph_get(), folder)
+        with open(exported.scene_path) as f:
+            albedo = json.load(f)["materials"]["Textured"]["albedo"]
+        self.assertEqual((albedo["type"], albedo["mapping"], albedo["color_space"]), ("image", "uv", "srgb"))
+        picture = support.read_rgb(support.render_to(scene, "textured"))
+
+        def quadrant(right, top):
+            # Rows are stored bottom first; the plane fills the middle of the frame.
+            x, y = (30 if right else 17), (30 if top else 17)
+            i = 3 * (y * picture.width + x)
+            return picture.rgb[i:i + 3]
+
+        # Turned a quarter to the left, the image's top row runs down its left side.
+        red, green = quadrant(False, False), quadrant(False, True)
+        blue, white = quadrant(True, False), quadrant(True, True)
+        self.assertGreater(red[0], 5 * red[2], red[:])
+        self.assertGreater(green[1], 5 * green[0], green[:])
+        self.assertGreater(blue[2], 5 * blue[0], blue[:])
+        self.assertGreater(min(white), 0.5, white[:])
+
     def test_preview_mesh_is_the_polygonized_field(self):
         scene = support.empty_scene()
         ball = bpy.data.objects.new("Ball", bpy.data.meshes.new("Ball"))

@@ -244,3 +244,35 @@ TEST(SceneLoader, ObjectsOfOneMeshFileShareOneMesh) {
     EXPECT_LT(difference, 1e-3 * total);
     EXPECT_GT(total, 0.0);
 }
+
+// Texture coordinates come from mesh files (OBJ vt, PLY s t) and inline
+// "uvs", and a hit interpolates them over its triangle.
+TEST(SceneLoader, MeshesCarryTextureCoordinatesToTheirHits) {
+    TemporaryFolder folder;
+    folder.write("quad.obj", "v -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nf 1/1 2/2 3/3\nf 1/1 3/3 4/4\n");
+    folder.write("quad.ply",
+                 "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n"
+                 "property float s\nproperty float t\nelement face 2\nproperty list uchar int vertex_indices\nend_header\n"
+                 "-1 -1 0 0 0\n1 -1 0 1 0\n1 1 0 1 1\n-1 1 0 0 1\n3 0 1 2\n3 0 2 3\n");
+    for (const std::string object :
+         {R"({"mesh": "quad.obj", "material": "clay"})", R"({"mesh": "quad.ply", "material": "clay"})",
+          R"({"vertices": [-1, -1, 0, 1, -1, 0, 1, 1, 0, -1, 1, 0], "indices": [0, 1, 2, 0, 2, 3],
+              "uvs": [0, 0, 1, 0, 1, 1, 0, 1], "material": "clay"})"}) {
+        const auto loaded = isotrace::testing::loadSceneText(folder, scene("{}", "[" + object + "]"));
+        ASSERT_EQ(loaded->meshes.size(), 1u) << object;
+        EXPECT_FALSE(loaded->meshes[0]->uvs.empty()) << object;
+        SurfaceHit hit;
+        ASSERT_TRUE(loaded->intersect(Ray{Vec3(0.5, -0.2, 3), Vec3(0, 0, -1)}, INFINITY, hit)) << object;
+        ASSERT_TRUE(hit.hasUv) << object;
+        EXPECT_NEAR(hit.uv.x(), 0.75, 1e-6) << object;
+        EXPECT_NEAR(hit.uv.y(), 0.4, 1e-6) << object;
+        EXPECT_NEAR(hit.uvPerLength, 0.5, 1e-6) << object;  // a 2 m quad spans one unit of uv
+    }
+    const auto plain = isotrace::testing::loadSceneText(
+        folder, scene("{}", R"([{"vertices": [-1, -1, 0, 1, -1, 0, 1, 1, 0], "indices": [0, 1, 2], "material": "clay"}])"));
+    SurfaceHit hit;
+    ASSERT_TRUE(plain->intersect(Ray{Vec3(0.5, -0.2, 3), Vec3(0, 0, -1)}, INFINITY, hit));
+    EXPECT_FALSE(hit.hasUv);
+    expectError(sceneError(folder, scene("{}", R"([{"vertices": [-1, -1, 0, 1, -1, 0, 1, 1, 0], "indices": [0, 1, 2],
+        "uvs": [0, 0, 1], "material": "clay"}])")), "/objects/0/uvs", "expected u v per vertex: 6 numbers, found 3");
+}

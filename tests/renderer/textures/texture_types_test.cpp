@@ -96,6 +96,45 @@ TEST(Textures, ImageTexelsReadBackThroughTheTriplanarProjection) {
     EXPECT_NEAR(png->evaluate(at({0.3, 0.3, 0.3}, Vec3(1, 1, 1).normalized()))[1], std::pow((v + 0.055) / 1.055, 2.4), 1e-4);
 }
 
+// The same image placed by texture coordinates: v runs up the image (as in
+// OBJ files and Blender), a point without them falls back to the projection,
+// and "color_space": "linear" reads a PNG's bytes as data.
+TEST(Textures, ImageTexelsReadBackByTextureCoordinates) {
+    TemporaryFolder folder;
+    OIIO::ImageBuf image(OIIO::ImageSpec(2, 2, 3, OIIO::TypeDesc::FLOAT));
+    // Rows from the top: (red, green), (blue, white).
+    const float texels[12] = {0.8f, 0.1f, 0.1f, 0.1f, 0.7f, 0.1f, 0.1f, 0.1f, 0.9f, 1.0f, 1.0f, 1.0f};
+    image.set_pixels(OIIO::ROI::All(), OIIO::TypeDesc::FLOAT, texels);
+    ASSERT_TRUE(image.write(folder.file("four.exr")));
+    MaterialContext context;
+    context.directory = folder.path();
+    const auto texture = makeTexture({{"type", "image"}, {"file", "four.exr"}, {"mapping", "uv"}}, context);
+    auto withUv = [](double u, double v) {
+        ShadingPoint s = at({5.0, 5.0, 0.0});  // far from where the projection would read
+        s.uv = Eigen::Vector2d(u, v);
+        s.hasUv = true;
+        return s;
+    };
+    EXPECT_NEAR(texture->evaluate(withUv(0.25, 0.75))[0], 0.8, 1e-5);  // top left: red
+    EXPECT_NEAR(texture->evaluate(withUv(0.75, 0.75))[1], 0.7, 1e-5);  // top right: green
+    EXPECT_NEAR(texture->evaluate(withUv(0.25, 0.25))[2], 0.9, 1e-5);  // bottom left: blue
+    EXPECT_NEAR(texture->evaluate(withUv(1.75, 0.25))[0], 1.0, 1e-5);  // repeats: bottom right, white
+    ShadingPoint wide = withUv(0.25, 0.75);
+    wide.uvFootprint = 4.0;
+    EXPECT_NEAR(texture->evaluate(wide)[0], (0.8 + 0.1 + 0.1 + 1.0) / 4, 0.02);  // the mean of the four
+    const RGB projected = makeTexture({{"type", "image"}, {"file", "four.exr"}}, context)->evaluate(at({5.25, 5.75, 0}));
+    const RGB fallback = texture->evaluate(at({5.25, 5.75, 0}));
+    EXPECT_TRUE((fallback == projected).all()) << fallback.transpose() << " vs " << projected.transpose();
+
+    OIIO::ImageBuf grey(OIIO::ImageSpec(2, 2, 1, OIIO::TypeDesc::UINT8));
+    const unsigned char bytes[4] = {128, 128, 128, 128};
+    grey.set_pixels(OIIO::ROI::All(), OIIO::TypeDesc::UINT8, bytes);
+    ASSERT_TRUE(grey.write(folder.file("rough.png")));
+    const auto data = makeTexture({{"type", "image"}, {"file", "rough.png"}, {"mapping", "uv"}, {"color_space", "linear"}}, context);
+    EXPECT_NEAR(data->evaluate(withUv(0.5, 0.5))[0], 128 / 255.0, 1e-4);
+    EXPECT_NEAR(data->maximum()[0], 128 / 255.0, 1e-6);
+}
+
 TEST(Textures, FieldRampsByValueAndByMeanCurvature) {
     geometry::FieldLibrary fields(geometry::Json{{"ball", {{"type", "sphere"}, {"radius", 2.0}}}}, "/fields", "test");
     MaterialContext context;
