@@ -449,6 +449,15 @@ std::vector<BadInputCase> sceneFileCases() {
                  R"({"type": "diffuse", "albedo": {"type": "image", "file": "gone.png"}})"), {"gone.png"}));
     add(renderOf("texture_rgb_for_roughness", smallWith("/materials/clay",
                  R"({"type": "conductor", "roughness": {"type": "image", "file": "tiles.png"}})"), {"tiles.png"}));
+    add(renderOf("texture_mapping_unknown", smallWith("/materials/clay",
+                 R"({"type": "diffuse", "albedo": {"type": "image", "file": "tiles.png", "mapping": "spherical"}})"),
+                 {"/materials/clay/albedo/mapping", "spherical"}));
+    add(renderOf("texture_color_space_unknown", smallWith("/materials/clay",
+                 R"({"type": "diffuse", "albedo": {"type": "image", "file": "tiles.png", "color_space": "acescg"}})"),
+                 {"/materials/clay/albedo/color_space", "acescg"}));
+    add(renderOf("inline_mesh_uvs_short", smallWith("/objects/0",
+                 R"({"vertices": [0, 0, 0, 1, 0, 0, 0, 1, 0], "indices": [0, 1, 2], "uvs": [0, 0, 1, 0], "material": "clay"})"),
+                 {"/objects/0/uvs", "6 numbers, found 4"}));
     return cases;
 }
 
