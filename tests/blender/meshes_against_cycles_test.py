@@ -31,10 +31,28 @@ def node_material(name, kind, **inputs):
     return material
 
 
-def scene_for(engine, seed):
-    scene = support.empty_scene(WIDTH, HEIGHT)
+def environment_map():
+    """A 64 x 32 latitude-longitude EXR whose colour tells the direction:
+    red across the azimuth, green down from the zenith, a bright patch."""
+    path = os.path.join(support.FOLDER, "sky.exr")
+    if not os.path.exists(path):
+        image = bpy.data.images.new("Sky", 64, 32, float_buffer=True)
+        pixels = []
+        for row in range(32):  # bottom row first
+            for column in range(64):
+                bright = 4.0 if 40 <= column < 46 and 20 <= row < 25 else 0.0
+                pixels += [0.1 + 0.6 * column / 63 + bright, 0.1 + 0.5 * row / 31 + bright, 0.3 + bright, 1.0]
+        image.pixels = pixels
+        image.filepath_raw = path
+        image.file_format = "OPEN_EXR"
+        image.save()
+    return path
+
+
+def scene_for(engine, seed, portrait=False):
+    scene = support.empty_scene(*((HEIGHT, WIDTH) if portrait else (WIDTH, HEIGHT)))
     scene.render.engine = engine
-    support.add_camera(scene, (0.5, -7.0, 3.0), (0, 0, 0.6))
+    camera = support.add_camera(scene, (0.5, -7.0, 3.0), (0, 0, 0.6))
     grey = node_material("Grey", "ShaderNodeBsdfDiffuse", Color=(0.6, 0.6, 0.6, 1))
     red = node_material("Red", "ShaderNodeBsdfDiffuse", Color=(0.7, 0.15, 0.1, 1))
     glass = node_material("Glass", "ShaderNodeBsdfGlass", IOR=1.45, Roughness=0.0)
@@ -52,6 +70,16 @@ def scene_for(engine, seed):
     support.add_light(scene, "Spot", "SPOT", (3, -3, 3), 300, target=(1.8, 0.6, 0.45), spot_size=math.radians(35),
                       spot_blend=0.4, shadow_soft_size=0.0)
     support.set_world_color(scene, (0.15, 0.18, 0.25))
+    if portrait:
+        # The sensor fits the taller side, the lens is wide open on the
+        # red cube, and the world is an image.
+        camera.data.dof.use_dof = True
+        camera.data.dof.focus_object = bpy.data.objects["Cube"]
+        camera.data.dof.aperture_fstop = 1.4
+        tree = scene.world.node_tree
+        texture = tree.nodes.new("ShaderNodeTexEnvironment")
+        texture.image = bpy.data.images.load(environment_map())
+        tree.links.new(texture.outputs["Color"], tree.nodes["Background"].inputs["Color"])
     if engine == "CYCLES":
         c = scene.cycles
         c.device, c.samples, c.seed, c.use_denoising, c.use_adaptive_sampling = "CPU", SAMPLES, seed, False, False
@@ -66,9 +94,10 @@ def scene_for(engine, seed):
     return scene
 
 
-def render(engine, seed):
+def render(engine, seed, portrait=False):
     started = time.monotonic()
-    picture = support.read_rgb(support.render_to(scene_for(engine, seed), f"{engine}_{seed}"))
+    name = f"{engine}_{seed}" + ("_portrait" if portrait else "")
+    picture = support.read_rgb(support.render_to(scene_for(engine, seed, portrait), name))
     return picture, time.monotonic() - started
 
 
@@ -92,9 +121,16 @@ class MeshesAgainstCycles(unittest.TestCase):
         support.install_addon()
 
     def test_images_agree_within_noise(self):
-        (c1, c_time), (c2, _) = render("CYCLES", 1), render("CYCLES", 2)
-        (i1, i_time), (i2, _) = render("ISOTRACE", 1), render("ISOTRACE", 2)
-        path = lambda engine, seed: os.path.join(support.FOLDER, f"{engine}_{seed}.exr")
+        self.compare(portrait=False)
+
+    def test_portrait_depth_of_field_and_environment_map_agree_within_noise(self):
+        self.compare(portrait=True)
+
+    def compare(self, portrait):
+        (c1, c_time), (c2, _) = render("CYCLES", 1, portrait), render("CYCLES", 2, portrait)
+        (i1, i_time), (i2, _) = render("ISOTRACE", 1, portrait), render("ISOTRACE", 2, portrait)
+        suffix = "_portrait" if portrait else ""
+        path = lambda engine, seed: os.path.join(support.FOLDER, f"{engine}_{seed}{suffix}.exr")
         flip_cycles = flip(path("CYCLES", 2), path("CYCLES", 1))
         flip_isotrace = flip(path("ISOTRACE", 2), path("ISOTRACE", 1))
         flip_between = flip(path("ISOTRACE", 1), path("CYCLES", 1))
