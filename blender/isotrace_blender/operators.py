@@ -8,7 +8,7 @@ import tempfile
 
 import bpy
 
-from . import binary, fields, properties
+from . import binary, fields, properties, registration
 
 
 def read_off(path):
@@ -90,10 +90,8 @@ CLASSES = (ISOTRACE_OT_update_preview,)
 
 
 def register():
-    for cls in CLASSES:
-        bpy.utils.register_class(cls)
+    registration.register_classes(CLASSES)
 
 
 def unregister():
-    for cls in reversed(CLASSES):
-        bpy.utils.unregister_class(cls)
+    registration.unregister_classes(CLASSES)

@@ -1,8 +1,9 @@
 # Settings the add-on keeps in .blend files: render settings on the scene,
 # the isotrace field of an object, and the binary's path as a preference.
 import bpy
-from bpy.props import (BoolProperty, EnumProperty, FloatProperty, FloatVectorProperty, IntProperty, PointerProperty,
-                       StringProperty)
+from bpy.props import EnumProperty, FloatProperty, FloatVectorProperty, IntProperty, PointerProperty, StringProperty
+
+from . import registration
 
 ADDON_NAME = __package__
 
@@ -80,8 +81,7 @@ CLASSES = (IsotracePreferences, IsotraceRenderSettings, IsotraceObjectSettings)
 
 
 def register():
-    for cls in CLASSES:
-        bpy.utils.register_class(cls)
+    registration.register_classes(CLASSES)
     bpy.types.Scene.isotrace = PointerProperty(type=IsotraceRenderSettings)
     bpy.types.Object.isotrace = PointerProperty(type=IsotraceObjectSettings)
 
@@ -89,5 +89,4 @@ def register():
 def unregister():
     del bpy.types.Object.isotrace
     del bpy.types.Scene.isotrace
-    for cls in reversed(CLASSES):
-        bpy.utils.unregister_class(cls)
+    registration.unregister_classes(CLASSES)

@@ -1,6 +1,8 @@
 # Panels: render settings, and an object's isotrace field.
 import bpy
 
+from . import registration
+
 
 class IsotracePanel:
     COMPAT_ENGINES = {"ISOTRACE"}
@@ -60,10 +62,8 @@ CLASSES = (RENDER_PT_isotrace, OBJECT_PT_isotrace_field)
 
 
 def register():
-    for cls in CLASSES:
-        bpy.utils.register_class(cls)
+    registration.register_classes(CLASSES)
 
 
 def unregister():
-    for cls in reversed(CLASSES):
-        bpy.utils.unregister_class(cls)
+    registration.unregister_classes(CLASSES)

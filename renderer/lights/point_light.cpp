@@ -2,6 +2,7 @@
 #include <cmath>
 
 #include "renderer/light.h"
+#include "renderer/lights/point_emitter.h"
 #include "renderer/scene_builder.h"
 #include "renderer/scene_values.h"
 
@@ -15,19 +16,10 @@ public:
 
     bool isDelta() const override { return true; }
     LightSample sample(const LightSampleContext& context, const Eigen::Vector2d&) const override {
-        LightSample s;
-        const Vec3 d = position_ - context.p;
-        s.point = position_;
-        s.distance = d.norm();
-        s.direction = d / s.distance;
-        s.radiance = intensity_ / (s.distance * s.distance);
-        s.pdf = 1.0;
-        s.isDelta = true;
-        return s;
+        return pointEmitterSample(position_, intensity_, context);
     }
     int sideOfPlane(const Vec3& point, const Vec3& normal) const override {
-        const double h = normal.dot(position_ - point);
-        return h > 0 ? 1 : h < 0 ? -1 : 0;
+        return sideOfPlaneOfPoint(position_, point, normal);
     }
     double importance(const LightSampleContext& context) const override {
         const Vec3 d = position_ - context.p;

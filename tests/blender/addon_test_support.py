@@ -174,3 +174,12 @@ def read_rgb(path):
 
 def isotrace(*arguments):
     return subprocess.run([BINARY, *arguments], capture_output=True, text=True)
+
+
+def render_keeping_export(scene, name, folder):
+    """Renders through the add-on, keeping the scene it exports in `folder`."""
+    os.environ["ISOTRACE_BLENDER_KEEP_EXPORT"] = folder
+    try:
+        return render_to(scene, name)
+    finally:
+        del os.environ["ISOTRACE_BLENDER_KEEP_EXPORT"]

@@ -45,11 +45,7 @@ class RenderEngineTest(unittest.TestCase):
     def test_render_equals_a_direct_isotrace_render_of_the_exported_scene(self):
         scene, _ = build_scene()
         export = os.path.join(support.FOLDER, "export")
-        os.environ["ISOTRACE_BLENDER_KEEP_EXPORT"] = export
-        try:
-            through_blender = support.render_to(scene, "through_blender")
-        finally:
-            del os.environ["ISOTRACE_BLENDER_KEEP_EXPORT"]
+        through_blender = support.render_keeping_export(scene, "through_blender", export)
         with open(os.path.join(export, "scene.json")) as f:
             exported = json.load(f)
         # What the scene holds reached the file: traced fields, not meshes,
@@ -87,11 +83,7 @@ class RenderEngineTest(unittest.TestCase):
         layer.use_pass_z = layer.use_pass_normal = layer.use_pass_diffuse_color = True
         scene.render.image_settings.file_format = "OPEN_EXR_MULTILAYER"
         export = os.path.join(support.FOLDER, "export_aov")
-        os.environ["ISOTRACE_BLENDER_KEEP_EXPORT"] = export
-        try:
-            through_blender = support.render_to(scene, "aov")
-        finally:
-            del os.environ["ISOTRACE_BLENDER_KEEP_EXPORT"]
+        through_blender = support.render_keeping_export(scene, "aov", export)
         direct = os.path.join(support.FOLDER, "direct_aov.exr")
         run = support.isotrace("render", os.path.join(export, "scene.json"), "-o", direct, "--seed", "3",
                                "--aov", "depth,normal,albedo,id,steps", "--no-preview", "-q")
