@@ -161,9 +161,11 @@ class _Exporter:
             obj.to_mesh_clear()
         files = []
         os.makedirs(os.path.join(self.folder, "meshes"), exist_ok=True)
-        for slot in sorted(set(slots)):
-            file = f"meshes/{safe_file_name(key)}_{len(self.mesh_files)}_{slot}.ply"
-            chosen = [t for t in range(count) if slots[t] == slot]
+        # One file per material slot and shading: smooth faces get isotrace's
+        # smooth normals, flat ones their own.
+        for slot, smoothed in sorted({(slots[t], bool(smooth[t])) for t in range(count)}):
+            file = f"meshes/{safe_file_name(key)}_{len(self.mesh_files)}_{slot}{'_smooth' if smoothed else ''}.ply"
+            chosen = [t for t in range(count) if slots[t] == slot and bool(smooth[t]) == smoothed]
             if len(chosen) == count and corner_uvs is None:
                 vertices, faces, uvs = positions, triangles, None
             else:
@@ -174,7 +176,7 @@ class _Exporter:
                         picked_uvs.extend(corner_uvs[6 * t:6 * t + 6])
                 vertices, faces, uvs = compacted(positions, picked, picked_uvs if corner_uvs is not None else None)
             write_ply(os.path.join(self.folder, file), vertices, faces, uvs)
-            files.append((file, slot, 2 * sum(smooth[t] for t in chosen) >= len(chosen)))
+            files.append((file, slot, smoothed))
         return files
 
     def field_object(self, obj, world):

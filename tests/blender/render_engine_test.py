@@ -60,6 +60,9 @@ class RenderEngineTest(unittest.TestCase):
         self.assertEqual(sorted(m["type"] for m in exported["materials"].values()),
                          ["conductor", "dielectric", "diffuse", "plastic"])
         self.assertNotIn("Cutter", [o["name"] for o in exported["objects"]])  # hidden in renders
+        # Smooth faces are smooth, flat ones flat.
+        self.assertEqual({o["smooth"] for o in exported["objects"] if o["name"] == "Sphere"}, {True})
+        self.assertEqual({o["smooth"] for o in exported["objects"] if o["name"] == "Cube"}, {False})
         # Blender's own polygonization of the metaballs is not exported beside them.
         self.assertEqual([o for o in exported["objects"] if o["name"].startswith("Blob") and "field" not in o], [])
         direct = os.path.join(support.FOLDER, "direct.exr")
