@@ -72,6 +72,24 @@ class BadCases(unittest.TestCase):
         self.assertIn("/nonexistent/isotrace", errors[0])
         self.render_works()
 
+    def test_too_old_binary_is_one_message(self):
+        old = os.path.join(support.FOLDER, "old-isotrace")
+        with open(old, "w") as f:
+            f.write("#!/bin/sh\necho 'isotrace 0.1.0 (numeric mode double, avx2 kernels)'\n")
+        os.chmod(old, 0o755)
+        binary = os.environ["ISOTRACE_BINARY"]
+        os.environ["ISOTRACE_BINARY"] = old
+        try:
+            with self.assertRaises(RuntimeError):
+                bpy.ops.render.render()
+        finally:
+            os.environ["ISOTRACE_BINARY"] = binary
+        errors = self.reports("ERROR")
+        self.assertEqual(len(errors), 1, self.engine.REPORTS)
+        self.assertIn("0.1.0", errors[0])
+        self.assertIn("too old", errors[0])
+        self.render_works()
+
     def test_failing_render_names_the_object(self):
         scene = small_scene()
         text = bpy.data.texts.new("bad field")
