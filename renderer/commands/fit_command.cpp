@@ -10,8 +10,13 @@
 
 #include "geometry/atomic_file.h"
 #include "geometry/errors.h"
+#include "geometry/description/field_parser.h"
 #include "geometry/description/mpu_description.h"
 #include "geometry/description/variational_description.h"
+#include "geometry/mesh_file.h"
+#include "geometry/meshing/mesh_distance.h"
+#include "geometry/meshing/polygonizer.h"
+#include "geometry/variational/constraints.h"
 #include "renderer/commands/command.h"
 #include "renderer/image/image_output.h"
 
@@ -34,6 +39,8 @@ struct FitCommand {
     std::optional<int> maxDepth, minPoints;
     bool smoothOnly = false;
     bool quiet = false;
+    bool report = false;
+    int reportResolution = 128;
 };
 
 // Errors about the description the command line became, said in the
@@ -85,6 +92,60 @@ int runMpuFit(const FitCommand& c, const Json& description, geometry::Variationa
     return kExitSuccess;
 }
 
+Json topologyOf(const geometry::IndexedMesh& mesh) {
+    const std::vector<geometry::MeshComponent> components = geometry::meshComponents(mesh);
+    Json genus = Json::array();
+    bool closed = !components.empty();
+    for (const geometry::MeshComponent& component : components) {
+        closed = closed && component.closed;
+        genus.push_back(component.genus());
+    }
+    return {{"closed", closed}, {"components", components.size()}, {"genus", genus}};
+}
+
+// What a user sees of a fit: the fitted field polygonized, its distance to
+// the input both ways (over the input's bounding diagonal), whether it is
+// closed, and its components and their genus beside the input's.
+Json fitQualityReport(const FitCommand& c, bool points) {
+    geometry::IndexedMesh input;
+    if (points) {
+        for (const geometry::OrientedPoint& p : geometry::readOrientedPoints(c.input)) input.vertices.push_back(p.position);
+    } else {
+        input = geometry::readMeshFile(c.input);
+        geometry::weldCoincidentVertices(input);
+    }
+    geometry::Box3 box;
+    for (const geometry::Vec3& v : input.vertices) box.extend(v);
+    const double diagonal = box.extent().norm();
+    const Json fields = {{"fit", {{"type", c.method}, {"fitted", std::filesystem::absolute(c.output).string()}}}};
+    const geometry::FieldProgram field = geometry::FieldLibrary(fields, "/fields", c.output).compile("fit");
+    geometry::PolygonizeOptions options;
+    options.resolution = c.reportResolution;
+    const geometry::Polygonization fitted = geometry::polygonize(field, options);
+    Json report = {{"resolution", c.reportResolution}, {"diagonal", diagonal}, {"fit", topologyOf(fitted.mesh)}};
+    if (!points) report["input"] = topologyOf(input);
+    if (fitted.mesh.triangles.empty()) {
+        report["fit"]["closed"] = false;
+        return report;
+    }
+    const geometry::NearestSurface fitSurface(fitted.mesh), inputSurface(input);
+    const geometry::DistanceSummary inputToFit = geometry::distancesTo(fitSurface, input.vertices);
+    const geometry::DistanceSummary fitToInput = geometry::distancesTo(inputSurface, fitted.mesh.vertices);
+    auto summary = [&](const geometry::DistanceSummary& d) {
+        Json j;
+        j["mean"] = d.mean / diagonal;
+        j["max"] = d.max / diagonal;
+        return j;
+    };
+    Json distance;
+    distance["input_to_fit"] = summary(inputToFit);
+    distance["fit_to_input"] = summary(fitToInput);
+    distance["mean"] = 0.5 * (inputToFit.mean + fitToInput.mean) / diagonal;
+    distance["max"] = std::max(inputToFit.max, fitToInput.max) / diagonal;
+    report["distance"] = distance;
+    return report;
+}
+
 // Bad input (unreadable or malformed files, singular systems, too many
 // constraints) throws geometry::InputError; nothing is written then.
 int runFit(const FitCommand& c) {
@@ -114,7 +175,11 @@ int runFit(const FitCommand& c) {
     context.warn = [&](const std::string&, const std::string&, const std::string& message) {
         std::fprintf(stderr, "warning: %s: %s\n", c.input.c_str(), message.c_str());
     };
-    if (mpu) return runMpuFit(c, description, context, points);
+    if (mpu) {
+        const int status = runMpuFit(c, description, context, points);
+        if (c.report) std::printf("%s\n", fitQualityReport(c, points).dump(2).c_str());
+        return status;
+    }
     geometry::JsonObjectReader reader(description, "", "command line");
     reader.string("type");
     geometry::VariationalSource source;
@@ -142,6 +207,7 @@ int runFit(const FitCommand& c) {
                                  "at most %zu) in %.3fs; max residual %.3g; wrote %s\n",
                          report.constraints, report.locals, report.meanLocal, report.largestLocal, report.seconds,
                          report.maxResidual, c.output.c_str());
+        if (c.report) std::printf("%s\n", fitQualityReport(c, points).dump(2).c_str());
         return kExitSuccess;
     }
     geometry::FitReport report;
@@ -158,6 +224,7 @@ int runFit(const FitCommand& c) {
                              "reciprocal condition %.3g; wrote %s\n",
                      field.centers.size(), field.gradientCenters.size(), report.unknowns, report.seconds,
                      report.maxResidual, report.reciprocalCondition, c.output.c_str());
+    if (c.report) std::printf("%s\n", fitQualityReport(c, points).dump(2).c_str());
     return kExitSuccess;
 }
 
@@ -193,6 +260,10 @@ Subcommand addFitCommand(CLI::App& app) {
     sub->add_option("--min-points", c->minPoints, "mpu: points a ball must hold, 6 to 1,000 (15)")->check(CLI::Range(6, 1000));
     sub->add_flag("--smooth-only", c->smoothOnly, "mpu: no edge and corner functions (sharp features round off)");
     sub->add_flag("-q,--quiet", c->quiet, "No summary line");
+    sub->add_flag("--report", c->report,
+                  "Print JSON: the fit polygonized, its distance to the input both ways, closedness, components and genus");
+    sub->add_option("--report-resolution", c->reportResolution, "Cells along the longest side for --report (128)")
+        ->check(CLI::Range(8, 1024));
     return {sub, [c] { return runFit(*c); }};
 }
 
