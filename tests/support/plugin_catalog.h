@@ -50,6 +50,8 @@ inline std::vector<PluginEntry> materialCatalog() {
 inline std::vector<PluginEntry> lightCatalog() {
     return {
         {"point", {{"type", "point"}, {"position", {0.3, 2, -0.2}}, {"intensity", {10, 10, 10}}}},
+        {"spot", {{"type", "spot"}, {"position", {0.3, 2, -0.2}}, {"direction", {0, -1, 0.1}}, {"intensity", {10, 10, 10}},
+                  {"cone_angle", 70}, {"blend", 0.3}}},
         {"directional", {{"type", "directional"}, {"direction", {0.2, -1, 0.1}}, {"irradiance", {2, 2, 2}}}},
         {"quad", {{"type", "quad"}, {"corner", {-0.5, 2, -0.5}}, {"edge1", {1, 0, 0}}, {"edge2", {0, 0, 1}}}},
         {"disk", {{"type", "disk"}, {"center", {0, 2, 0}}, {"normal", {0, -1, 0}}, {"radius", 0.5}}},
