@@ -5,6 +5,7 @@
 #include <tbb/parallel_reduce.h>
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 #include <map>
 #include <numeric>
@@ -78,12 +79,24 @@ NearestSurface::NearestSurface(const IndexedMesh& mesh) : embree_(std::make_uniq
     embree_->scene = rtcNewScene(embree_->device);
     RTCGeometry geometry;
     if (mesh.triangles.empty()) {
-        // A point set: points of radius zero.
-        geometry = rtcNewGeometry(embree_->device, RTC_GEOMETRY_TYPE_SPHERE_POINT);
-        auto* points = static_cast<float*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4,
-                                                                   4 * sizeof(float), mesh.vertices.size()));
-        for (size_t i = 0; i < mesh.vertices.size(); ++i)
-            for (int k = 0; k < 4; ++k) points[4 * i + k] = k < 3 ? float(mesh.vertices[i][k]) : 0.0f;
+        // A point set: user primitives whose bounds are their points (point
+        // queries need nothing else; no ray is traced against them).
+        geometry = rtcNewGeometry(embree_->device, RTC_GEOMETRY_TYPE_USER);
+        rtcSetGeometryUserPrimitiveCount(geometry, unsigned(mesh.vertices.size()));
+        rtcSetGeometryUserData(geometry, const_cast<IndexedMesh*>(&mesh));
+        rtcSetGeometryBoundsFunction(
+            geometry,
+            [](const RTCBoundsFunctionArguments* args) {
+                const Vec3& p = static_cast<const IndexedMesh*>(args->geometryUserPtr)->vertices[args->primID];
+                // Widened by a float's step, so that single precision keeps the point inside.
+                const float lower[3] = {std::nextafter(float(p.x()), -INFINITY), std::nextafter(float(p.y()), -INFINITY),
+                                        std::nextafter(float(p.z()), -INFINITY)};
+                const float upper[3] = {std::nextafter(float(p.x()), INFINITY), std::nextafter(float(p.y()), INFINITY),
+                                        std::nextafter(float(p.z()), INFINITY)};
+                args->bounds_o->lower_x = lower[0], args->bounds_o->lower_y = lower[1], args->bounds_o->lower_z = lower[2];
+                args->bounds_o->upper_x = upper[0], args->bounds_o->upper_y = upper[1], args->bounds_o->upper_z = upper[2];
+            },
+            nullptr);
     } else {
         geometry = rtcNewGeometry(embree_->device, RTC_GEOMETRY_TYPE_TRIANGLE);
         auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
