@@ -260,10 +260,11 @@ Subcommand addFitCommand(CLI::App& app) {
     sub->add_option("--min-points", c->minPoints, "mpu: points a ball must hold, 6 to 1,000 (15)")->check(CLI::Range(6, 1000));
     sub->add_flag("--smooth-only", c->smoothOnly, "mpu: no edge and corner functions (sharp features round off)");
     sub->add_flag("-q,--quiet", c->quiet, "No summary line");
-    sub->add_flag("--report", c->report,
-                  "Print JSON: the fit polygonized, its distance to the input both ways, closedness, components and genus");
+    CLI::Option* report = sub->add_flag(
+        "--report", c->report, "Print JSON: the fit polygonized, its distance to the input both ways, closedness, components and genus");
     sub->add_option("--report-resolution", c->reportResolution, "Cells along the longest side for --report (128)")
-        ->check(CLI::Range(8, 1024));
+        ->check(CLI::Range(8, 1024))
+        ->needs(report);
     return {sub, [c] { return runFit(*c); }};
 }
 

@@ -120,6 +120,9 @@ std::vector<BadInputCase> commandLineCases() {
     add(makeCase("fit_margin_nan", "fit ball.off -o out.json --margin nan", {"--margin"}));
     add(makeCase("fit_margin_negative", "fit ball.off -o out.json --margin -1", {"--margin"}));
     add(makeCase("fit_unknown_option", "fit ball.off -o out.json --method rbf", {"--method"}));
+    add(makeCase("fit_report_resolution_four", "fit ball.off -o out.json --report --report-resolution 4", {"--report-resolution"}));
+    add(makeCase("fit_report_resolution_without_report", "fit ball.off -o out.json --report-resolution 64",
+                 {"--report-resolution", "--report"}));
     add(makeCase("fit_mpu_support_nine", "fit ring.xyz -o out.json --method mpu --support 9", {"--support"}));
     add(makeCase("fit_mpu_accuracy_zero", "fit ring.xyz -o out.json --method mpu --accuracy 0", {"--accuracy"}));
     add(makeCase("fit_mpu_depth_zero", "fit ring.xyz -o out.json --method mpu --max-depth 0", {"--max-depth"}));

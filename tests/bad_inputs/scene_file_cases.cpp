@@ -375,6 +375,12 @@ std::vector<BadInputCase> sceneFileCases() {
         add(renderOf("mesh_object_" + std::string(m.name), smallWithObject(object), {m.file}, {{m.file, m.content}}));
         add(renderOf("variational_mesh_" + std::string(m.name), smallWithField(field), {m.file}, {{m.file, m.content}}));
     }
+    // Texture coordinates are read for mesh objects only.
+    add(renderOf("mesh_object_ply_nan_uv",
+                 smallWithObject(R"({"mesh": "m.ply", "material": "clay"})"), {"m.ply", "texture coordinate"},
+                 {{"m.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                            "property float z\nproperty float s\nproperty float t\nelement face 1\n"
+                            "property list uchar int vertex_indices\nend_header\n0 0 0 0 0\n1 0 0 nan 0\n0 1 0 0 1\n3 0 1 2\n"}}));
     add(renderOf("mesh_object_missing_file", smallWithObject(R"({"mesh": "gone.off", "material": "clay"})"), {"gone.off"}));
     add(renderOf("mesh_object_is_folder", smallWithObject(R"({"mesh": "folder.off", "material": "clay"})"), {"folder.off"}));
     cases.back().setup = {"mkdir folder.off"};
