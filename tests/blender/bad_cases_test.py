@@ -57,19 +57,23 @@ class BadCases(unittest.TestCase):
         self.assertEqual(self.reports("ERROR"), [])
         self.assertGreater(support.read_rgb(path).mean(), 0.05)
 
-    def test_missing_binary_is_one_message(self):
-        binary = os.environ["ISOTRACE_BINARY"]
-        os.environ["ISOTRACE_BINARY"] = "/nonexistent/isotrace"
+    def render_with_binary(self, binary):
+        """Renders with ISOTRACE_BINARY set to `binary`; returns the one error
+        reported. A script sees the engine's error report as an exception;
+        the user sees it in the status bar."""
+        saved = os.environ["ISOTRACE_BINARY"]
+        os.environ["ISOTRACE_BINARY"] = binary
         try:
-            # A script sees the engine's error report as an exception; the
-            # user sees it in the status bar.
             with self.assertRaises(RuntimeError):
                 bpy.ops.render.render()
         finally:
-            os.environ["ISOTRACE_BINARY"] = binary
+            os.environ["ISOTRACE_BINARY"] = saved
         errors = self.reports("ERROR")
         self.assertEqual(len(errors), 1, self.engine.REPORTS)
-        self.assertIn("/nonexistent/isotrace", errors[0])
+        return errors[0]
+
+    def test_missing_binary_is_one_message(self):
+        self.assertIn("/nonexistent/isotrace", self.render_with_binary("/nonexistent/isotrace"))
         self.render_works()
 
     def test_too_old_binary_is_one_message(self):
@@ -77,17 +81,9 @@ class BadCases(unittest.TestCase):
         with open(old, "w") as f:
             f.write("#!/bin/sh\necho 'isotrace 0.1.0 (numeric mode double, avx2 kernels)'\n")
         os.chmod(old, 0o755)
-        binary = os.environ["ISOTRACE_BINARY"]
-        os.environ["ISOTRACE_BINARY"] = old
-        try:
-            with self.assertRaises(RuntimeError):
-                bpy.ops.render.render()
-        finally:
-            os.environ["ISOTRACE_BINARY"] = binary
-        errors = self.reports("ERROR")
-        self.assertEqual(len(errors), 1, self.engine.REPORTS)
-        self.assertIn("0.1.0", errors[0])
-        self.assertIn("too old", errors[0])
+        error = self.render_with_binary(old)
+        self.assertIn("0.1.0", error)
+        self.assertIn("too old", error)
         self.render_works()
 
     def test_failing_render_names_the_object(self):
