@@ -294,6 +294,17 @@ uint32_t makePolynomial(Compiler& c, JsonObjectReader& r, const LeafPlacement& p
 
 // ---- blobs, distance and convolution surfaces ----------------------------
 
+// A matrix's singular values, largest first. GCC 12 warns falsely that
+// Eigen's fixed-size SVD may leave them uninitialised.
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#endif
+Vec3 singularValues(const Mat3& m) { return Eigen::JacobiSVD<Mat3>(m).singularValues(); }
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic pop
+#endif
+
 // A blob's core box and frame (Blender's metaball elements): `half_size`
 // (0 to 1e6 each), and `axes`, the blob's own x, y and z axes in the
 // field's space, any lengths, not (nearly) linearly dependent.
@@ -313,14 +324,7 @@ BlobShape readBlobShape(JsonObjectReader& b) {
             throw InputError(b.file(), pointer, "the axes must be three vectors that are not (nearly) in one plane");
         shape.toLocal = toWorld.inverse();
     }
-#if defined(__GNUC__) && !defined(__clang__)
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
-#endif
-    shape.stretch = Eigen::JacobiSVD<Mat3>(shape.toLocal).singularValues()(0);
-#if defined(__GNUC__) && !defined(__clang__)
-#pragma GCC diagnostic pop
-#endif
+    shape.stretch = singularValues(shape.toLocal)(0);
     return shape;
 }
 
@@ -507,16 +511,7 @@ uint32_t makeTransform(Compiler& c, JsonObjectReader& r, const LeafPlacement& p)
     const Mat3& a = affine.linear;
     const Vec3& translate = affine.translation;
     const Mat3 inverse = a.inverse();
-    // The smallest singular value. GCC 12 warns falsely that Eigen's
-    // fixed-size SVD may leave it uninitialised.
-#if defined(__GNUC__) && !defined(__clang__)
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
-#endif
-    const double sigma = Eigen::JacobiSVD<Mat3>(a).singularValues()(2);
-#if defined(__GNUC__) && !defined(__clang__)
-#pragma GCC diagnostic pop
-#endif
+    const double sigma = singularValues(a)(2);  // the smallest
     return c.operand(r, p.composed(inverse, -inverse * translate, sigma));
 }
 

@@ -30,13 +30,7 @@ public:
         // Surfaces without texture coordinates fall back to the projection.
         if (uvMapping_ && p.hasUv) {
             // v runs up the image, as in OBJ files and Blender; rows run down.
-            float texel[3] = {0, 0, 0};
-            image_->lookup(float(p.uv.x() * inverseScale_), float(1.0 - p.uv.y() * inverseScale_),
-                           float(p.uvFootprint * inverseScale_), channels_ == 1 ? 1 : 3, texel);
-            RGB value = channels_ == 1 ? RGB::Constant(texel[0]) : RGB(texel[0], texel[1], texel[2]);
-            if (srgb_)
-                for (int c = 0; c < 3; ++c) value[c] = srgbToLinear(value[c]);
-            return value;
+            return decoded(lookup(p.uv.x() * inverseScale_, 1.0 - p.uv.y() * inverseScale_, p.uvFootprint * inverseScale_));
         }
         const Vec3 q = p.objectPosition * inverseScale_;
         const Vec3 n = p.objectNormal.cwiseAbs();
@@ -45,26 +39,31 @@ public:
         const double total = w.sum();
         if (!(total > 0)) w = Vec3(0, 0, 1);
         else w /= total;
-        const float width = float(p.footprint * inverseScale_);
+        const double width = p.footprint * inverseScale_;
         RGB sum = RGB::Zero();
         const double coordinates[3][2] = {{q.z(), q.y()}, {q.x(), q.z()}, {q.x(), q.y()}};
-        for (int axis = 0; axis < 3; ++axis) {
-            if (w[axis] < 1e-4) continue;
-            float texel[3] = {0, 0, 0};
-            image_->lookup(float(coordinates[axis][0]), float(1.0 - coordinates[axis][1]), width,
-                           channels_ == 1 ? 1 : 3, texel);
-            const RGB value = channels_ == 1 ? RGB::Constant(texel[0]) : RGB(texel[0], texel[1], texel[2]);
-            sum += w[axis] * value;
-        }
-        if (srgb_)
-            for (int c = 0; c < 3; ++c) sum[c] = srgbToLinear(sum[c]);
-        return sum;
+        for (int axis = 0; axis < 3; ++axis)
+            if (w[axis] >= 1e-4) sum += w[axis] * lookup(coordinates[axis][0], 1.0 - coordinates[axis][1], width);
+        return decoded(sum);
     }
     int channels() const override { return channels_; }
     RGB minimum() const override { return minimum_; }
     RGB maximum() const override { return maximum_; }
 
 private:
+    /// The filtered texel at (s, t), as stored (grey spread to three channels).
+    RGB lookup(double s, double t, double width) const {
+        float texel[3] = {0, 0, 0};
+        image_->lookup(float(s), float(t), float(width), channels_ == 1 ? 1 : 3, texel);
+        return channels_ == 1 ? RGB::Constant(texel[0]) : RGB(texel[0], texel[1], texel[2]);
+    }
+    /// Linear values from the file's encoding.
+    RGB decoded(RGB value) const {
+        if (srgb_)
+            for (int c = 0; c < 3; ++c) value[c] = srgbToLinear(value[c]);
+        return value;
+    }
+
     std::unique_ptr<TextureImage> image_;
     int channels_;
     bool srgb_;
