@@ -21,6 +21,8 @@ public:
     /// The type name of the scene file ("path"), recorded in renders.
     virtual const char* typeName() const = 0;
     virtual RGB radiance(const Scene& scene, const Ray& ray, Sampler& sampler) const = 0;
+    /// How the scene's LightSampler chooses lights for this integrator.
+    virtual LightSampling lightSampling() const { return LightSampling::Tree; }
 };
 
 /// Reads one integrator's keys (the reader is left for the caller to finish).

@@ -6,8 +6,10 @@
 
 #include <Eigen/Core>
 #include <cstddef>
+#include <optional>
 
 #include "renderer/color.h"
+#include "renderer/light_bounds.h"
 #include "renderer/ray.h"
 #include "renderer/registry.h"
 
@@ -59,6 +61,11 @@ public:
     /// contribute (zero only where it cannot: behind a one-sided emitter,
     /// below the surface's horizon).
     virtual double importance(const LightSampleContext& context) const = 0;
+    /// Where the light emits from, how strongly and in which directions, for
+    /// the light tree (light_bounds.h); its importance() must be zero
+    /// wherever LightBounds::importance of these bounds is. None (the
+    /// default) for lights at infinity: they are chosen beside the tree.
+    virtual std::optional<LightBounds> bounds() const { return std::nullopt; }
     /// Which side of a plane (through `point`, unit `normal`) the light
     /// gives off light from: +1 wholly in front, -1 wholly behind, 0 across
     /// it or all around (the environment). Lights are imaged in plane

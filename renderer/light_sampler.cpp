@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <optional>
 #include <numbers>
 
 namespace isotrace {
@@ -11,6 +13,7 @@ double safeImportance(const Light& light, const LightSampleContext& context) {
     const double w = light.importance(context);
     return std::isfinite(w) && w > 0 ? w : 0.0;
 }
+constexpr double kBelowOne = 1.0 - std::numeric_limits<double>::epsilon() / 2;
 }  // namespace
 
 double cosineBound(const Vec3& a, const Vec3& d, double sinSlack) {
@@ -26,13 +29,33 @@ double cosineBound(const Vec3& a, const Vec3& d, double sinSlack) {
 
 double sphereSinHalfAngle(double r, double distance) { return distance <= r ? 1.0 : r / distance; }
 
-LightSampler::LightSampler(const std::vector<std::unique_ptr<const Light>>& lights) {
+bool lightSamplingNamed(const std::string& name, LightSampling& sampling) {
+    if (name == "tree") sampling = LightSampling::Tree;
+    else if (name == "exhaustive") sampling = LightSampling::Exhaustive;
+    else return false;
+    return true;
+}
+
+LightSampler::LightSampler(const std::vector<std::unique_ptr<const Light>>& lights, LightSampling sampling)
+    : sampling_(sampling) {
     for (const auto& light : lights) lights_.push_back(light.get());
+    std::vector<int> bounded;
+    std::vector<LightBounds> bounds(lights_.size());
+    for (size_t i = 0; i < lights_.size(); ++i) {
+        const std::optional<LightBounds> b = sampling == LightSampling::Tree ? lights_[i]->bounds() : std::nullopt;
+        if (b && b->power > 0 && b->box.isFinite() && !b->box.isEmpty()) {
+            bounds[i] = *b;
+            bounded.push_back(int(i));
+        } else {
+            direct_.push_back(int(i));
+        }
+    }
+    tree_ = LightTree(lights_, bounded, bounds);
 }
 
 double LightSampler::totalImportance(const LightSampleContext& context) const {
-    double total = 0.0;
-    for (const Light* light : lights_) total += safeImportance(*light, context);
+    double total = tree_.importance(context);
+    for (const int i : direct_) total += safeImportance(*lights_[size_t(i)], context);
     return total;
 }
 
@@ -40,25 +63,37 @@ int LightSampler::sample(const LightSampleContext& context, double u, double tot
     if (!(total > 0)) return -1;
     const double target = u * total;
     double sum = 0.0;
-    for (size_t i = 0; i < lights_.size(); ++i) {
-        const double w = safeImportance(*lights_[i], context);
+    int last = -1;
+    double lastWeight = 0.0;
+    for (const int i : direct_) {
+        const double w = safeImportance(*lights_[size_t(i)], context);
         sum += w;
         if (w > 0 && target < sum) {
             pmf = w / total;
-            return int(i);
+            return i;
         }
+        if (w > 0) last = i, lastWeight = w;
+    }
+    const double treeWeight = tree_.importance(context);
+    if (treeWeight > 0) {
+        // The rest of [0, total) is the tree's: rescaled, u chooses in it.
+        const double v = std::clamp((target - sum) / treeWeight, 0.0, kBelowOne);
+        double within = 0.0;
+        const int chosen = tree_.sample(context, v, within);
+        if (chosen < 0) return -1;
+        pmf = treeWeight / total * within;
+        return chosen;
     }
     // A target past the rounded sum: the last light with weight.
-    for (size_t i = lights_.size(); i-- > 0;)
-        if (const double w = safeImportance(*lights_[i], context); w > 0) {
-            pmf = w / total;
-            return int(i);
-        }
-    return -1;
+    if (last < 0) return -1;
+    pmf = lastWeight / total;
+    return last;
 }
 
 double LightSampler::pmf(const LightSampleContext& context, int index, double total) const {
-    return total > 0 ? safeImportance(*lights_[index], context) / total : 0.0;
+    if (!(total > 0)) return 0.0;
+    if (tree_.contains(index)) return tree_.importance(context) / total * tree_.pmf(context, index);
+    return safeImportance(*lights_[size_t(index)], context) / total;
 }
 
 }  // namespace isotrace

@@ -139,7 +139,7 @@ std::unique_ptr<Scene> SceneBuilder::build() {
         scene_->lights.push_back(makeImplicitEmitterLight(*scene_, o, *m.emission));
     }
     addMirrorImages(*scene_);
-    scene_->lightSampler = LightSampler(scene_->lights);
+    scene_->lightSampler = LightSampler(scene_->lights, scene_->integrator->lightSampling());
     scene_->cameraInteriors = interiorsAt(*scene_, scene_->camera.from);
     return std::move(scene_);
 }

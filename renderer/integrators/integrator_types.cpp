@@ -6,7 +6,7 @@ namespace isotrace {
 
 std::unique_ptr<Integrator> readPathIntegrator(geometry::JsonObjectReader& r);
 std::unique_ptr<Integrator> readWhittedIntegrator(geometry::JsonObjectReader& r);
-std::unique_ptr<Integrator> makePathIntegrator(int maxDepth, int russianRouletteDepth);
+std::unique_ptr<Integrator> makePathIntegrator(int maxDepth, int russianRouletteDepth, LightSampling lightSampling);
 
 const Registry<IntegratorFactory>& integratorRegistry() {
     static const Registry<IntegratorFactory> registry({
@@ -16,6 +16,6 @@ const Registry<IntegratorFactory>& integratorRegistry() {
     return registry;
 }
 
-std::unique_ptr<Integrator> makeDefaultIntegrator() { return makePathIntegrator(8, 3); }
+std::unique_ptr<Integrator> makeDefaultIntegrator() { return makePathIntegrator(8, 3, LightSampling::Tree); }
 
 }  // namespace isotrace

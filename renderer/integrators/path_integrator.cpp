@@ -14,10 +14,11 @@ bool sameSide(const Vec3& ng, const Vec3& ns, const Vec3& w) { return ng.dot(w) 
 
 class PathIntegrator final : public Integrator {
 public:
-    PathIntegrator(int maxDepth, int russianRouletteDepth)
-        : maxDepth_(maxDepth), russianRouletteDepth_(russianRouletteDepth) {}
+    PathIntegrator(int maxDepth, int russianRouletteDepth, LightSampling lightSampling)
+        : maxDepth_(maxDepth), russianRouletteDepth_(russianRouletteDepth), lightSampling_(lightSampling) {}
 
     const char* typeName() const override { return "path"; }
+    LightSampling lightSampling() const override { return lightSampling_; }
 
     RGB radiance(const Scene& scene, const Ray& cameraRay, Sampler& sampler) const override {
         const auto& lights = scene.lights;
@@ -145,18 +146,21 @@ public:
 private:
     int maxDepth_;
     int russianRouletteDepth_;
+    LightSampling lightSampling_;
 };
 
 }  // namespace
 
-std::unique_ptr<Integrator> makePathIntegrator(int maxDepth, int russianRouletteDepth) {
-    return std::make_unique<PathIntegrator>(maxDepth, russianRouletteDepth);
+std::unique_ptr<Integrator> makePathIntegrator(int maxDepth, int russianRouletteDepth, LightSampling lightSampling) {
+    return std::make_unique<PathIntegrator>(maxDepth, russianRouletteDepth, lightSampling);
 }
 
 std::unique_ptr<Integrator> readPathIntegrator(geometry::JsonObjectReader& r) {
     const int maxDepth = static_cast<int>(r.integer("max_depth", 8, 1, 100000));
     const int rrDepth = static_cast<int>(r.integer("rr_depth", 3, 1, 100000));
-    return makePathIntegrator(maxDepth, rrDepth);
+    LightSampling lightSampling = LightSampling::Tree;
+    lightSamplingNamed(r.choice("light_sampler", {"tree", "exhaustive"}, "tree"), lightSampling);
+    return makePathIntegrator(maxDepth, rrDepth, lightSampling);
 }
 
 }  // namespace isotrace

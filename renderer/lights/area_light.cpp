@@ -44,6 +44,19 @@ double AreaLight::importance(const LightSampleContext& context) const {
     return luminance(emission_.radiance) * totalArea_ * cosLight * cosReceiver / std::max(d * d, radius_ * radius_);
 }
 
+std::optional<LightBounds> AreaLight::bounds() const {
+    if (triangles_.empty()) return std::nullopt;
+    LightBounds b;
+    for (const auto& t : triangles_)
+        for (const Vec3& v : t) b.box.extend(v);
+    b.power = luminance(emission_.radiance) * totalArea_;
+    // A flat one-sided emitter faces one way; any other, every way.
+    if (!normal_.isZero()) b.axis = normal_, b.cosNormalSpread = 1.0;
+    else b.cosNormalSpread = -1.0, b.twoSided = emission_.twoSided;
+    b.cosEmissionSpread = 0.0;
+    return b;
+}
+
 int AreaLight::sideOfPlane(const Vec3& point, const Vec3& normal) const {
     int side = 0;
     for (const auto& t : triangles_)

@@ -22,6 +22,7 @@ public:
     double pdf(const LightSampleContext& context, const Vec3& wi, const Vec3& onLight,
                const Vec3& lightNormal) const override;
     double importance(const LightSampleContext& context) const override;
+    std::optional<LightBounds> bounds() const override;
     int sideOfPlane(const Vec3& point, const Vec3& normal) const override;
 
 private:

@@ -97,6 +97,14 @@ double ImplicitEmitterLight::importance(const LightSampleContext& context) const
     return cosReceiver > 0 ? luminance(emission_.radiance) * std::numbers::pi * solid * cosReceiver : 0.0;
 }
 
+std::optional<LightBounds> ImplicitEmitterLight::bounds() const {
+    if (!(radius_ > 0)) return std::nullopt;
+    // As importance(): a sphere of the bounding radius, emitting every way.
+    LightBounds b = pointSourceBounds(center_, luminance(emission_.radiance) * std::numbers::pi * radius_ * radius_);
+    b.box = geometry::Box3::around(center_, radius_);
+    return b;
+}
+
 std::unique_ptr<Light> makeImplicitEmitterLight(const Scene& scene, const SceneObject& object,
                                                 const Emission& emission) {
     return std::make_unique<ImplicitEmitterLight>(scene, object, emission);

@@ -26,6 +26,7 @@ public:
     double pdf(const LightSampleContext& context, const Vec3& wi, const Vec3& onLight,
                const Vec3& lightNormal) const override;
     double importance(const LightSampleContext& context) const override;
+    std::optional<LightBounds> bounds() const override;
     /// By the bounding sphere: the first point along a direction must lie
     /// on the side of the plane for an image of the light to be exact.
     int sideOfPlane(const Vec3& point, const Vec3& normal) const override;

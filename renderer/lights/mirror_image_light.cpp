@@ -36,6 +36,16 @@ double MirrorImageLight::pdf(const LightSampleContext& context, const Vec3& wi, 
     return light_.pdf(reflected(context), plane_.reflectVector(wi), onLight, lightNormal);
 }
 
+std::optional<LightBounds> MirrorImageLight::bounds() const {
+    std::optional<LightBounds> b = light_.bounds();
+    if (!b) return b;
+    geometry::Box3 image;
+    for (int i = 0; i < 8; ++i) image.extend(plane_.reflectPoint(b->box.corner(i)));
+    b->box = image;
+    b->axis = plane_.reflectVector(b->axis).normalized();
+    return b;
+}
+
 double MirrorImageLight::importance(const LightSampleContext& context) const {
     return height(context.p) > 0 ? light_.importance(reflected(context)) : 0.0;
 }

@@ -38,6 +38,8 @@ public:
     /// The light's importance seen from the reflected point (the mirror's
     /// reflectance taken as one, its extent as unbounded).
     double importance(const LightSampleContext& context) const override;
+    /// The light's bounds reflected in the plane.
+    std::optional<LightBounds> bounds() const override;
     int sideOfPlane(const Vec3& point, const Vec3& normal) const override { return 0; }
 
 private:

@@ -27,6 +27,7 @@ public:
         const double cosReceiver = context.n.isZero() ? 1.0 : context.n.dot(d) / std::sqrt(d2);
         return cosReceiver > 0 ? luminance(intensity_) * cosReceiver / d2 : 0.0;
     }
+    std::optional<LightBounds> bounds() const override { return pointSourceBounds(position_, luminance(intensity_)); }
 
 private:
     Vec3 position_;

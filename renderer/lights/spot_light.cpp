@@ -53,6 +53,13 @@ public:
         if (!(cosReceiver > 0)) return 0.0;
         return luminance(intensity_) * falloff(-d / distance) * cosReceiver / d2;
     }
+    std::optional<LightBounds> bounds() const override {
+        LightBounds b = pointSourceBounds(position_, luminance(intensity_));
+        b.axis = axis_;
+        b.cosNormalSpread = 1.0;
+        b.cosEmissionSpread = cosHalfAngle_;
+        return b;
+    }
 
 private:
     Vec3 position_;

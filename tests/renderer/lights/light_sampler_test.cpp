@@ -11,8 +11,9 @@ using namespace isotrace;
 namespace {
 
 // A scene of one small shape and the given lights.
-std::unique_ptr<Scene> shapeWith(const std::vector<geometry::Json>& lights) {
+std::unique_ptr<Scene> shapeWith(const std::vector<geometry::Json>& lights, const char* sampling = "tree") {
     SceneBuilder builder;
+    builder.setIntegrator(geometry::Json{{"type", "path"}, {"light_sampler", sampling}});
     SceneObject shape;
     shape.material = builder.addMaterial("grey", {{"type", "diffuse"}});
     TriangleMesh triangle;
@@ -46,10 +47,11 @@ TEST(LightSampler, ImportanceFollowsDistanceAndOrientation) {
     EXPECT_EQ(quad.importance({Vec3(10, 5, 0), Vec3(0, -1, 0)}), 0.0);  // behind the one-sided quad
 }
 
-TEST(LightSampler, ChoosesInProportionToImportance) {
+TEST(LightSampler, ExhaustiveChoosesInProportionToImportance) {
     const auto scene = shapeWith({{{"type", "point"}, {"position", {0, 4, 0}}, {"intensity", {2, 2, 2}}},
                                   {{"type", "point"}, {"position", {0, -4, 0}}, {"intensity", {50, 50, 50}}},
-                                  {{"type", "point"}, {"position", {3, 2, 0}}, {"intensity", {1, 1, 1}}}});
+                                  {{"type", "point"}, {"position", {3, 2, 0}}, {"intensity", {1, 1, 1}}}},
+                                 "exhaustive");
     const LightSampler& s = scene->lightSampler;
     const LightSampleContext up{Vec3::Zero(), Vec3(0, 1, 0)};
     const double w0 = 2.0 / 16, w2 = 1.0 * (2 / std::sqrt(13.0)) / 13;

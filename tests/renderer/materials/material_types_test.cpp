@@ -190,7 +190,8 @@ INSTANTIATE_TEST_SUITE_P(Catalog, EveryMaterial, ::testing::ValuesIn(materialCat
 class EveryLight : public ::testing::TestWithParam<PluginEntry> {};
 
 // A light's samples carry the density pdf() gives for the point they chose,
-// and a light that sends light to a point has importance there.
+// and a light that sends light to a point has importance there, by its
+// own estimate and by its bounds in the light tree.
 TEST_P(EveryLight, SamplesAgreeWithPdf) {
     SceneBuilder builder;
     builder.addLight(GetParam().description);
@@ -209,6 +210,11 @@ TEST_P(EveryLight, SamplesAgreeWithPdf) {
         const bool contributes = (ls.radiance > 0).any() && ls.pdf > 0 && (context.n.isZero() || context.n.dot(ls.direction) > 0);
         if (contributes) {
             EXPECT_GT(light.importance(context), 0.0) << "sample " << s;
+            // The light tree's bounds must not rule it out either.
+            if (const std::optional<LightBounds> bounds = light.bounds()) {
+                EXPECT_GT(bounds->importance(context), 0.0) << "sample " << s;
+                EXPECT_TRUE(bounds->box.expanded(1e-9).contains(ls.point)) << "sample " << s;
+            }
         }
         EXPECT_EQ(ls.isDelta, light.isDelta());
         if (light.isDelta()) continue;
