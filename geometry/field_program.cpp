@@ -1,5 +1,7 @@
 #include "geometry/field_program.h"
 
+#include "geometry/smooth_min.h"
+
 #include <Eigen/SVD>
 #include <algorithm>
 #include <cmath>
@@ -7,18 +9,6 @@
 namespace isotrace::geometry {
 
 namespace {
-
-// Quadratic polynomial smooth minimum with blend radius k > 0. Its partial
-// derivatives are h and 1 - h (both in [0, 1]), so it is monotone in each
-// operand and its gradient is a convex combination of the operands'.
-struct SmoothMinResult {
-    double value;
-    double h;  ///< weight of operand a
-};
-inline SmoothMinResult smoothMin(double a, double b, double k) {
-    const double h = std::clamp(0.5 + 0.5 * (b - a) / k, 0.0, 1.0);
-    return {b * (1.0 - h) + a * h - k * h * (1.0 - h), h};
-}
 
 size_t leafTerms(const LeafShape& shape) {
     return std::visit(

@@ -23,6 +23,7 @@
 #include "geometry/fields/polynomial.h"
 #include "geometry/fields/revolved_profile.h"
 #include "geometry/fields/sphere.h"
+#include "geometry/fields/sphere_set.h"
 #include "geometry/fields/torus.h"
 #include "geometry/fields/vdb_level_set.h"
 #include "geometry/pointsets/mpu_field.h"
@@ -70,7 +71,7 @@ using MpuLeafField = SharedLeafField<MpuField>;
 using LeafShape = std::variant<SphereField, BoxField, TorusField, PlaneField, EllipsoidField, OctahedronField,
                                RevolvedProfileField,
                                PolylineDistanceField, PolynomialField, BlobbyField, ConvolutionField,
-                               VariationalLeafField, MpuLeafField, VdbLevelSetField>;
+                               VariationalLeafField, MpuLeafField, VdbLevelSetField, SphereSetField>;
 
 template <class Variant>
 struct AllLeafFields;

@@ -356,6 +356,58 @@ uint32_t makeBlobby(Compiler& c, JsonObjectReader& r, const LeafPlacement& p) {
     return c.program.addLeaf(std::move(f), p);
 }
 
+// Spheres scattered at random through a region, combined by one
+// operation: one leaf (fields/sphere_set.h), however many.
+uint32_t makeScatter(Compiler& c, JsonObjectReader& r, const LeafPlacement& p) {
+    const std::string name = r.choice("operation", {"union", "smooth_union", "intersection"}, "union");
+    const SetOperation operation = name == "smooth_union"   ? SetOperation::SmoothUnion
+                                   : name == "intersection" ? SetOperation::Intersection
+                                                            : SetOperation::Union;
+    double blend = 0.0;
+    if (operation == SetOperation::SmoothUnion) blend = r.positiveNumber("radius");
+    else if (r.has("radius")) r.fail("radius", "is the blend radius of \"operation\": \"smooth_union\" only");
+
+    JsonObjectReader shape = r.object("shape");
+    shape.choice("type", {"sphere"}, "");
+    const double radius = shape.positiveNumber("radius");
+    shape.finish();
+
+    if (!r.has("count")) r.fail("count", "is required: how many spheres to scatter");
+    const long long count = r.integer("count", 1, 1, 100'000'000);
+    // A sphere costs its 32 bytes here and several hundred in the cells
+    // that hold it (bench/RESULTS.md, "Scale"): refuse what would not fit
+    // before allocating.
+    const double needed = double(count) * 1024.0;
+    if (needed > 0.5 * physicalMemoryBytes())
+        r.fail("count", std::to_string(count) + " spheres would need about " + std::to_string(needed / 1e9).substr(0, 4) +
+                            " GB, more than half of this machine's memory");
+    const auto seed = uint64_t(r.integer("seed", 0, 0, 1LL << 53));
+    const Json* regionJson = r.optionalValue("region");
+    if (!regionJson) r.fail("region", "is required: [[xmin, ymin, zmin], [xmax, ymax, zmax]], the box the centres fill");
+    const Box3 region = c.readBox(*regionJson, r.pointerOf("region"));
+    double smallest = 1.0, largest = 1.0;
+    if (r.has("scale")) {
+        const std::vector<double> range = r.numbers("scale");
+        if (range.size() != 2 || !(range[0] > 0) || !(range[0] <= range[1]) || !std::isfinite(range[1]))
+            r.fail("scale", "expected [smallest, largest] with 0 < smallest <= largest");
+        smallest = range[0], largest = range[1];
+    }
+
+    // Uniform centres and scales from a 64-bit Mersenne twister, turned into
+    // doubles by their top 53 bits: the same spheres on every machine.
+    std::mt19937_64 random(seed);
+    auto uniform = [&random] { return double(random() >> 11) * 0x1.0p-53; };
+    std::vector<SphereField> spheres;
+    spheres.reserve(size_t(count));
+    const Vec3 extent = region.extent();
+    for (long long i = 0; i < count; ++i) {
+        const Vec3 u(uniform(), uniform(), uniform());
+        const double scale = smallest + (largest - smallest) * uniform();
+        spheres.push_back({region.lower + u.cwiseProduct(extent), radius * scale});
+    }
+    return c.program.addLeaf(SphereSetField::of(std::move(spheres), operation, blend), p);
+}
+
 uint32_t makeDistance(Compiler& c, JsonObjectReader& r, const LeafPlacement& p) {
     const double radius = r.positiveNumber("radius");
     if (r.has("circle")) {
@@ -529,6 +581,7 @@ const std::map<std::string, FieldFactory>& registry() {
         {"quadric", makeQuadric},
         {"polynomial", makePolynomial},
         {"blobby", makeBlobby},
+        {"scatter", makeScatter},
         {"distance", makeDistance},
         {"convolution", makeConvolution},
         {"variational", makeVariational},

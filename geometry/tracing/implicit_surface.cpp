@@ -18,6 +18,7 @@
 #include "geometry/tracing/variational_csg_cells.h"
 #include "geometry/tracing/polynomial_cells.h"
 #include "geometry/tracing/sphere_cells.h"
+#include "geometry/tracing/sphere_set_cells.h"
 #include "geometry/tracing/torus_cells.h"
 #include "geometry/tracing/vdb_cells.h"
 #include "geometry/tracing/mpu_cells.h"
@@ -30,7 +31,8 @@ std::vector<std::shared_ptr<const CellAccelerator>> defaultCellAccelerators() {
     return {std::make_shared<VariationalCellAccelerator>(), std::make_shared<VariationalCsgCellAccelerator>(),
             std::make_shared<MpuCellAccelerator>(), std::make_shared<PartitionedVariationalCellAccelerator>(),
             std::make_shared<BlobCellAccelerator>(), std::make_shared<PolynomialCellAccelerator>(),
-            std::make_shared<SphereCellAccelerator>(), std::make_shared<TorusCellAccelerator>(),
+            std::make_shared<SphereCellAccelerator>(), std::make_shared<SphereSetCellAccelerator>(),
+            std::make_shared<TorusCellAccelerator>(),
             std::make_shared<BoxCellAccelerator>(), std::make_shared<VdbCellAccelerator>(),
             std::make_shared<CsgCellAccelerator>()};
 }
@@ -57,6 +59,20 @@ struct RefinedLevel {
 // of one (ImplicitSurfaceOptions::distanceCellDepth).
 constexpr size_t kSmallDistanceProgram = 4;
 
+// Cells over sphere sets (fields/sphere_set.h) refine until each holds at
+// most this many spheres, as deep as kSetMaxDepth and to a budget that
+// grows with the set: a cell then costs a ray what it holds, not the set.
+constexpr size_t kSetMembersPerCell = 128;
+constexpr int kSetMaxDepth = 12;
+
+size_t setMembers(const FieldProgram& program) {
+    size_t n = 0;
+    for (const FieldInstruction& in : program.instructions())
+        if (in.op == FieldOp::Leaf)
+            if (const auto* set = std::get_if<SphereSetField>(&program.leaf(in.a).shape)) n += set->members.size();
+    return n;
+}
+
 // Refine level by level, keeping only cells whose range holds zero. Each
 // cell carries its field pruned to its box (exact there), so a child's
 // range costs what its neighbourhood holds, not the whole field: 1,001
@@ -67,7 +83,10 @@ constexpr size_t kSmallDistanceProgram = 4;
 RefinedLevel refineCells(const Box3& root, const FieldProgram& field, const ImplicitSurfaceOptions& options) {
     using Program = std::shared_ptr<FieldProgram>;
     RefinedLevel level{{root}, {std::make_shared<FieldProgram>(field)}, {0}};
-    for (int depth = 0; depth < options.maxDepth; ++depth) {
+    const size_t members = setMembers(field);
+    const int depthLimit = members > kSetMembersPerCell ? std::max(options.maxDepth, kSetMaxDepth) : options.maxDepth;
+    const size_t budget = std::max(options.cellBudget, 2 * members);
+    for (int depth = 0; depth < depthLimit; ++depth) {
         // The children that may hold surface, counted before any is pruned:
         // a level over budget is dropped, and pruning it first (the 1,001
         // blobs' 42,000 programs) was most of that scene's page faults.
@@ -81,7 +100,7 @@ RefinedLevel refineCells(const Box3& root, const FieldProgram& field, const Impl
         size_t count = 0;
         for (size_t i = 0; i < level.boxes.size(); ++i)
             count += level.final[i] ? 1 : size_t(std::popcount(unsigned(holding[i])));
-        if (count > options.cellBudget) break;
+        if (count > budget) break;
         std::vector<std::array<Program, 8>> children(level.boxes.size());
         tbb::parallel_for(size_t(0), level.boxes.size(), [&](size_t i) {
             const FieldProgram& program = *level.programs[i];
@@ -118,10 +137,14 @@ RefinedLevel refineCells(const Box3& root, const FieldProgram& field, const Impl
             tbb::parallel_for(size_t(0), next.boxes.size(), [&](size_t i) {
                 const FieldProgram& program = *next.programs[i];
                 const size_t allowed = depth + 1 >= options.distanceCellDepth + 1 ? kSmallDistanceProgram : 1;
-                if (!next.final[i] && program.instructionCount() <= allowed &&
+                if (!next.final[i] && program.instructionCount() <= allowed && setMembers(program) <= kSetMembersPerCell &&
                     program.estimate(next.boxes[i]).lipschitz <= 1.0 + 1e-9)
                     next.final[i] = 1;
             });
+        // Past the usual depth only cells over many spheres refine on.
+        if (depth + 1 >= options.maxDepth)
+            for (size_t i = 0; i < next.boxes.size(); ++i)
+                if (setMembers(*next.programs[i]) <= kSetMembersPerCell) next.final[i] = 1;
         level = std::move(next);
         if (std::all_of(level.final.begin(), level.final.end(), [](uint8_t f) { return f != 0; })) break;
     }

@@ -319,7 +319,34 @@ std::vector<BadInputCase> sceneFileCases() {
         {"environment_radiance_and_file", "/lights/0", R"({"type": "environment", "radiance": [1, 1, 1], "file": "sky.exr"})"},
         {"environment_scale_negative", "/lights/0", R"({"type": "environment", "file": "sky.exr", "scale": -1})"},
         {"environment_scale_on_constant", "/lights/0", R"({"type": "environment", "radiance": [1, 1, 1], "scale": 2})"},
+        {"integrator_unknown_light_sampler", "/integrator", R"({"type": "path", "light_sampler": "power"})"},
     };
+    // Scatters put at /fields/ball, each error named at its own key.
+    const Value scatters[] = {
+        {"scatter_count_missing", "/fields/ball/count",
+         R"({"type": "scatter", "region": [[-1, -1, -1], [1, 1, 1]], "shape": {"type": "sphere", "radius": 0.1}})"},
+        {"scatter_count_zero", "/fields/ball/count",
+         R"({"type": "scatter", "count": 0, "region": [[-1, -1, -1], [1, 1, 1]], "shape": {"type": "sphere", "radius": 0.1}})"},
+        {"scatter_count_past_memory", "/fields/ball/count",
+         R"({"type": "scatter", "count": 100000000, "region": [[-1, -1, -1], [1, 1, 1]], "shape": {"type": "sphere", "radius": 0.1}})"},
+        {"scatter_count_fractional", "/fields/ball/count",
+         R"({"type": "scatter", "count": 2.5, "region": [[-1, -1, -1], [1, 1, 1]], "shape": {"type": "sphere", "radius": 0.1}})"},
+        {"scatter_region_missing", "/fields/ball/region", R"({"type": "scatter", "count": 10, "shape": {"type": "sphere", "radius": 0.1}})"},
+        {"scatter_region_inverted", "/fields/ball/region",
+         R"({"type": "scatter", "count": 10, "region": [[1, 1, 1], [-1, -1, -1]], "shape": {"type": "sphere", "radius": 0.1}})"},
+        {"scatter_radius_negative", "/fields/ball/shape/radius",
+         R"({"type": "scatter", "count": 10, "region": [[-1, -1, -1], [1, 1, 1]], "shape": {"type": "sphere", "radius": -0.1}})"},
+        {"scatter_unknown_shape", "/fields/ball/shape/type",
+         R"({"type": "scatter", "count": 10, "region": [[-1, -1, -1], [1, 1, 1]], "shape": {"type": "teapot", "radius": 0.1}})"},
+        {"scatter_scale_reversed", "/fields/ball/scale", R"({"type": "scatter", "count": 10, "region": [[-1, -1, -1], [1, 1, 1]],
+          "shape": {"type": "sphere", "radius": 0.1}, "scale": [2, 1]})"},
+        {"scatter_blend_on_union", "/fields/ball/radius", R"({"type": "scatter", "count": 10, "region": [[-1, -1, -1], [1, 1, 1]],
+          "shape": {"type": "sphere", "radius": 0.1}, "radius": 0.1})"},
+        {"scatter_smooth_without_radius", "/fields/ball/radius", R"({"type": "scatter", "count": 10, "operation": "smooth_union",
+          "region": [[-1, -1, -1], [1, 1, 1]], "shape": {"type": "sphere", "radius": 0.1}})"},
+    };
+    for (const Value& v : scatters) add(renderOf(v.name, smallWith("/fields/ball", v.value), {v.pointer}));
+
     // A field whose parameters put its surface out of reach is named as a whole.
     for (const Value& v : values)
         add(renderOf(v.name, smallWith(v.pointer, v.value),
