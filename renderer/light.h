@@ -5,6 +5,8 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <optional>
 
@@ -81,7 +83,16 @@ public:
 /// An upper bound of cos(a, d') over all directions d' within an angle of
 /// sine `sinSlack` of unit direction d (sinSlack >= 1: any direction).
 /// Light importances use it to bound the cosines over a light's extent.
-double cosineBound(const Vec3& a, const Vec3& d, double sinSlack);
+inline double cosineBound(const Vec3& a, const Vec3& d, double sinSlack) {
+    // cos(theta - slack) for theta > slack, else 1; no trigonometric calls:
+    // this runs for every light, or every tree node, a sample weighs.
+    if (!(sinSlack < 1)) return 1.0;
+    const double cosTheta = std::clamp(a.dot(d), -1.0, 1.0);
+    const double cosSlack = std::sqrt(1 - sinSlack * sinSlack);
+    if (cosTheta >= cosSlack) return 1.0;
+    const double sinTheta = std::sqrt(std::max(0.0, 1 - cosTheta * cosTheta));
+    return cosTheta * cosSlack + sinTheta * sinSlack;
+}
 /// The sine of the half-angle that a sphere of radius r at distance
 /// `distance` subtends (1 when the point is inside it).
 double sphereSinHalfAngle(double r, double distance);

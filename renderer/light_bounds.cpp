@@ -27,48 +27,62 @@ AngleDifference clampedDifference(double cosA, double sinA, double cosB, double 
 
 }  // namespace
 
-double LightBounds::importance(const LightSampleContext& context) const {
-    if (!(power > 0)) return 0.0;
-    const Vec3 center = box.center();
-    const Vec3 fromLight = context.p - center;
-    const double radius = box.halfDiagonal();
-    const double d2 = fromLight.squaredNorm();
-    const double distance = std::sqrt(d2);
-    // The cone of directions from the context to the box's bounding sphere:
-    // half-angle theta_b, every direction from inside it.
-    const bool inside = !(distance > radius);
-    const double sinB = inside ? 1.0 : radius / distance, cosB = safeSqrt(1 - sinB * sinB);
-    const Vec3 w = distance > 0 ? Vec3(fromLight / distance) : axis;
+PreparedLightBounds::PreparedLightBounds(const LightBounds& b)
+    : center(b.box.center()),
+      halfExtent(0.5 * b.box.extent()),
+      axis(b.axis),
+      radius(b.box.halfDiagonal()),
+      power(b.power),
+      cosNormalSpread(b.cosNormalSpread),
+      sinNormalSpread(safeSqrt(1 - b.cosNormalSpread * b.cosNormalSpread)),
+      cosEmissionSpread(b.cosEmissionSpread),
+      twoSided(b.twoSided) {}
 
-    // theta' = theta_w - theta_o - theta_b: the smallest angle between any
-    // normal in the cone and any direction to the context.
-    double orientation = 1.0;
-    if (!inside) {
-        double cosW = axis.dot(w);
-        if (twoSided) cosW = std::abs(cosW);
-        cosW = std::clamp(cosW, -1.0, 1.0);
-        const AngleDifference beyondNormals =
-            clampedDifference(cosW, safeSqrt(1 - cosW * cosW), cosNormalSpread, safeSqrt(1 - cosNormalSpread * cosNormalSpread));
-        const AngleDifference beyondBox = clampedDifference(beyondNormals.cos, beyondNormals.sin, cosB, sinB);
-        orientation = beyondBox.cos;
-    }
-    if (!(orientation > cosEmissionSpread)) return 0.0;
-    // Emitters that all face one way (a level ceiling of quads) light only
-    // the half-space in front of the box's foremost point.
-    const Vec3 halfExtent = 0.5 * box.extent();
+double LightBounds::importance(const LightSampleContext& context) const {
+    return PreparedLightBounds(*this).importance(context);
+}
+
+double PreparedLightBounds::importance(const LightSampleContext& context) const {
+    if (!(power > 0)) return 0.0;
+    const Vec3 fromLight = context.p - center;
+    // Two plane tests first, without square roots: most nodes a sample
+    // weighs that give nothing fail one of them. Below the receiver's
+    // horizon plane the whole box gives nothing; emitters that all face one
+    // way (a level ceiling of quads) light only the half-space in front of
+    // the box's foremost point.
+    const bool atSurface = !context.n.isZero();
+    if (atSurface && !(-context.n.dot(fromLight) + context.n.cwiseAbs().dot(halfExtent) > 0)) return 0.0;
     if (cosNormalSpread >= 1.0 && cosEmissionSpread >= 0.0 && !twoSided &&
         !(axis.dot(fromLight) + axis.cwiseAbs().dot(halfExtent) > 0))
         return 0.0;
 
+    const double d2 = fromLight.squaredNorm();
+    // Inside the box's bounding sphere every direction is possible.
+    if (!(d2 > radius * radius)) return power / std::max(d2, radius * radius);
+    // The cone of directions from the context to the bounding sphere:
+    // half-angle theta_b.
+    const double distance = std::sqrt(d2);
+    const double sinB = radius / distance, cosB = safeSqrt(1 - sinB * sinB);
+    const Vec3 w = fromLight / distance;
+
+    // theta' = theta_w - theta_o - theta_b: the smallest angle between any
+    // normal in the cone and any direction to the context.
+    double cosW = axis.dot(w);
+    if (twoSided) cosW = std::abs(cosW);
+    cosW = std::clamp(cosW, -1.0, 1.0);
+    const AngleDifference beyondNormals =
+        clampedDifference(cosW, safeSqrt(1 - cosW * cosW), cosNormalSpread, sinNormalSpread);
+    const double orientation = clampedDifference(beyondNormals.cos, beyondNormals.sin, cosB, sinB).cos;
+    if (!(orientation > cosEmissionSpread)) return 0.0;
+
+    // The receiver's cosine, bounded over the cone to the sphere.
     double receiver = 1.0;
-    if (!context.n.isZero()) {
-        // Below the receiver's horizon plane the whole box gives nothing;
-        // elsewhere the cone to the bounding sphere bounds the cosine.
-        if (!(-context.n.dot(fromLight) + context.n.cwiseAbs().dot(halfExtent) > 0)) return 0.0;
-        receiver = inside ? 1.0 : cosineBound(context.n, -w, sinB);
+    if (atSurface) {
+        const double cosI = std::clamp(-context.n.dot(w), -1.0, 1.0);
+        receiver = clampedDifference(cosI, safeSqrt(1 - cosI * cosI), cosB, sinB).cos;
+        if (!(receiver > 0)) return 0.0;
     }
-    if (!(receiver > 0)) return 0.0;
-    return power * orientation * receiver / std::max(d2, radius * radius);
+    return power * orientation * receiver / d2;
 }
 
 double LightBounds::orientationMeasure() const {

@@ -36,6 +36,21 @@ struct LightBounds {
     double orientationMeasure() const;
 };
 
+/// LightBounds with what importance() needs at every call worked out once:
+/// the light tree's nodes, weighed at every sample.
+struct PreparedLightBounds {
+    Vec3 center = Vec3::Zero(), halfExtent = Vec3::Zero(), axis = Vec3(0, 0, 1);
+    double radius = 0.0;  ///< of the sphere around the box
+    double power = 0.0;
+    double cosNormalSpread = 1.0, sinNormalSpread = 0.0, cosEmissionSpread = 0.0;
+    bool twoSided = false;
+
+    PreparedLightBounds() = default;
+    explicit PreparedLightBounds(const LightBounds& bounds);
+    /// LightBounds::importance.
+    double importance(const LightSampleContext& context) const;
+};
+
 /// Bounds that hold both: boxes and powers summed, cones merged.
 LightBounds unite(const LightBounds& a, const LightBounds& b);
 

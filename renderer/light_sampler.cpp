@@ -16,17 +16,6 @@ double safeImportance(const Light& light, const LightSampleContext& context) {
 constexpr double kBelowOne = 1.0 - std::numeric_limits<double>::epsilon() / 2;
 }  // namespace
 
-double cosineBound(const Vec3& a, const Vec3& d, double sinSlack) {
-    // cos(theta - slack) for theta > slack, else 1; no trigonometric calls:
-    // this runs for every light at every shading point.
-    if (!(sinSlack < 1)) return 1.0;
-    const double cosTheta = std::clamp(a.dot(d), -1.0, 1.0);
-    const double cosSlack = std::sqrt(1 - sinSlack * sinSlack);
-    if (cosTheta >= cosSlack) return 1.0;
-    const double sinTheta = std::sqrt(std::max(0.0, 1 - cosTheta * cosTheta));
-    return cosTheta * cosSlack + sinTheta * sinSlack;
-}
-
 double sphereSinHalfAngle(double r, double distance) { return distance <= r ? 1.0 : r / distance; }
 
 bool lightSamplingNamed(const std::string& name, LightSampling& sampling) {

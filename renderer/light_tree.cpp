@@ -27,20 +27,18 @@ LightTree::LightTree(const std::vector<const Light*>& lights, const std::vector<
     if (members.empty()) return;
     std::vector<int> order = members;
     nodes_.reserve(2 * order.size() - 1);
-    build(order, 0, order.size(), bounds, -1);
+    nodes_.emplace_back();
+    build(order, 0, order.size(), bounds, 0);
 }
 
-int32_t LightTree::build(std::vector<int>& members, size_t begin, size_t end, const std::vector<LightBounds>& bounds,
-                         int32_t parent) {
-    const auto index = int32_t(nodes_.size());
-    nodes_.emplace_back();
-    nodes_[index].parent = parent;
+void LightTree::build(std::vector<int>& members, size_t begin, size_t end, const std::vector<LightBounds>& bounds,
+                      int32_t index) {
     if (end - begin == 1) {
         const int light = members[begin];
-        nodes_[index].bounds = bounds[light];
-        nodes_[index].light = light;
-        leafOfLight_[light] = index;
-        return index;
+        nodes_[size_t(index)].bounds = PreparedLightBounds(bounds[size_t(light)]);
+        nodes_[size_t(index)].light = light;
+        leafOfLight_[size_t(light)] = index;
+        return;
     }
 
     LightBounds all;
@@ -89,12 +87,15 @@ int32_t LightTree::build(std::vector<int>& members, size_t begin, size_t end, co
         const auto at = size_t(split - members.begin());
         if (at > begin && at < end) middle = at;
     }
-    const int32_t first = build(members, begin, middle, bounds, index);
-    const int32_t second = build(members, middle, end, bounds, index);
-    nodes_[index].children[0] = first;
-    nodes_[index].children[1] = second;
-    nodes_[index].bounds = all;
-    return index;
+    const auto first = int32_t(nodes_.size());
+    nodes_.emplace_back();
+    nodes_.emplace_back();
+    nodes_[size_t(index)].children[0] = first;
+    nodes_[size_t(index)].children[1] = first + 1;
+    nodes_[size_t(index)].bounds = PreparedLightBounds(all);
+    nodes_[size_t(first)].parent = nodes_[size_t(first) + 1].parent = index;
+    build(members, begin, middle, bounds, first);
+    build(members, middle, end, bounds, first + 1);
 }
 
 double LightTree::nodeImportance(int32_t node, const LightSampleContext& context) const {

@@ -5,8 +5,8 @@
 // importance at the shading point. A light is found in O(log n) importance
 // evaluations instead of n, and the probability of choosing it is the
 // product of the choices on its way, which pmf() retraces from its leaf.
-// At a leaf the light's own importance (Light::importance) stands for its
-// bounds, so one light alone is sampled as before.
+// At a leaf the light's own importance (Light::importance), tighter than
+// its bounds, stands for them.
 #pragma once
 
 #include <cstdint>
@@ -20,7 +20,8 @@ namespace isotrace {
 class LightTree {
 public:
     LightTree() = default;
-    /// The lights (indices into `lights`) with their bounds, one each.
+    /// A tree over `members`, indices into `lights`; `bounds` holds each
+    /// light's bounds at its index.
     LightTree(const std::vector<const Light*>& lights, const std::vector<int>& members,
               const std::vector<LightBounds>& bounds);
 
@@ -38,16 +39,16 @@ public:
     int depth() const;
 
 private:
+    // A node's children sit side by side: a sample weighs both at once.
     struct Node {
-        LightBounds bounds;
+        PreparedLightBounds bounds;
         int32_t parent = -1;
         int32_t children[2] = {-1, -1};  ///< both -1 at a leaf
         int32_t light = -1;              ///< a leaf's light
         bool isLeaf() const { return light >= 0; }
     };
 
-    int32_t build(std::vector<int>& members, size_t begin, size_t end, const std::vector<LightBounds>& bounds,
-                  int32_t parent);
+    void build(std::vector<int>& members, size_t begin, size_t end, const std::vector<LightBounds>& bounds, int32_t index);
     double nodeImportance(int32_t node, const LightSampleContext& context) const;
 
     std::vector<const Light*> lights_;
