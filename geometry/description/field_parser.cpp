@@ -5,6 +5,7 @@
 #include "geometry/description/variational_description.h"
 #include "geometry/fields/vdb_level_set.h"
 #include "geometry/physical_memory.h"
+#include "geometry/sphere_file.h"
 
 #include <Eigen/SVD>
 #include <algorithm>
@@ -367,19 +368,38 @@ uint32_t makeScatter(Compiler& c, JsonObjectReader& r, const LeafPlacement& p) {
     if (operation == SetOperation::SmoothUnion) blend = r.positiveNumber("radius");
     else if (r.has("radius")) r.fail("radius", "is the blend radius of \"operation\": \"smooth_union\" only");
 
-    JsonObjectReader shape = r.object("shape");
-    shape.choice("type", {"sphere"}, "");
-    const double radius = shape.positiveNumber("radius");
-    shape.finish();
-
-    if (!r.has("count")) r.fail("count", "is required: how many spheres to scatter");
-    const long long count = r.integer("count", 1, 1, 100'000'000);
     // A sphere costs its 32 bytes here and several hundred in the cells
     // that hold it (bench/RESULTS.md, "Scale"): refuse what would not fit
     // before allocating.
-    const double needed = double(count) * 1024.0;
-    if (needed > 0.5 * physicalMemoryBytes())
-        r.fail("count", std::to_string(count) + " spheres would need about " + std::to_string(needed / 1e9).substr(0, 4) +
+    const double maxSpheres = 0.5 * physicalMemoryBytes() / 1024.0;
+
+    std::optional<double> radius;
+    if (r.has("shape") || !r.has("file")) {
+        JsonObjectReader shape = r.object("shape");
+        shape.choice("type", {"sphere"}, "");
+        radius = r.has("file") && !shape.has("radius") ? std::nullopt : std::optional(shape.positiveNumber("radius"));
+        shape.finish();
+    }
+
+    std::vector<SphereField> spheres;
+    if (r.has("file")) {
+        // An operand list: one sphere per vertex of a PLY file.
+        for (const char* key : {"count", "seed", "region", "scale"})
+            if (r.has(key)) r.fail(key, "draws spheres at random; a scatter from a \"file\" takes them from the file");
+        const std::string file = r.string("file");
+        const std::string path = (std::filesystem::path(c.file()).parent_path() / file).string();
+        try {
+            spheres = readSphereFile(path, radius, maxSpheres);
+        } catch (const InputError& e) {
+            throw InputError(c.file(), r.pointerOf("file"), e.what());
+        }
+        return c.program.addLeaf(SphereSetField::of(std::move(spheres), operation, blend), p);
+    }
+
+    if (!r.has("count")) r.fail("count", "is required: how many spheres to scatter (or a \"file\" of them)");
+    const long long count = r.integer("count", 1, 1, 100'000'000);
+    if (double(count) > maxSpheres)
+        r.fail("count", std::to_string(count) + " spheres would need about " + std::to_string(double(count) / 1e6).substr(0, 4) +
                             " GB, more than half of this machine's memory");
     const auto seed = uint64_t(r.integer("seed", 0, 0, 1LL << 53));
     const Json* regionJson = r.optionalValue("region");
@@ -397,13 +417,12 @@ uint32_t makeScatter(Compiler& c, JsonObjectReader& r, const LeafPlacement& p) {
     // doubles by their top 53 bits: the same spheres on every machine.
     std::mt19937_64 random(seed);
     auto uniform = [&random] { return double(random() >> 11) * 0x1.0p-53; };
-    std::vector<SphereField> spheres;
     spheres.reserve(size_t(count));
     const Vec3 extent = region.extent();
     for (long long i = 0; i < count; ++i) {
         const Vec3 u(uniform(), uniform(), uniform());
         const double scale = smallest + (largest - smallest) * uniform();
-        spheres.push_back({region.lower + u.cwiseProduct(extent), radius * scale});
+        spheres.push_back({region.lower + u.cwiseProduct(extent), *radius * scale});
     }
     return c.program.addLeaf(SphereSetField::of(std::move(spheres), operation, blend), p);
 }

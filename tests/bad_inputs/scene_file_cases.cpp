@@ -347,6 +347,40 @@ std::vector<BadInputCase> sceneFileCases() {
     };
     for (const Value& v : scatters) add(renderOf(v.name, smallWith("/fields/ball", v.value), {v.pointer}));
 
+    // Operand lists from PLY files, each broken one way.
+    struct SphereFileCase {
+        const char* name;
+        const char* content;
+        const char* mention;
+    };
+    const SphereFileCase sphereFiles[] = {
+        {"scatter_file_not_ply", "solid\n", "line 1"},
+        {"scatter_file_without_z", "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
+                                   "property float radius\nend_header\n0 0 1\n", "x, y and z"},
+        {"scatter_file_without_radius", "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
+                                        "property float z\nend_header\n0 0 0\n", "radius"},
+        {"scatter_file_nan", "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\n"
+                             "property float z\nproperty float radius\nend_header\n0 0 0 1\nnan 0 0 1\n", "vertex 1"},
+        {"scatter_file_radius_zero", "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\n"
+                                     "property float z\nproperty float radius\nend_header\n0 0 0 1\n1 0 0 0\n", "vertex 1"},
+        {"scatter_file_past_memory", "ply\nformat ascii 1.0\nelement vertex 100000000000\nproperty float x\n"
+                                     "property float y\nproperty float z\nproperty float radius\nend_header\n0 0 0 1\n", "memory"},
+        {"scatter_file_truncated", "ply\nformat binary_little_endian 1.0\nelement vertex 2\nproperty float x\n"
+                                   "property float y\nproperty float z\nproperty float radius\nend_header\nabcdefghijklmnopqrst", "vertex 1"},
+        {"scatter_file_list_property", "ply\nformat ascii 1.0\nelement vertex 1\nproperty list uchar float x\nend_header\n1 0\n", "list"},
+        {"scatter_file_words", "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
+                               "property float z\nproperty float radius\nend_header\n0 zero 0 1\n", "line 9"},
+    };
+    for (const SphereFileCase& f : sphereFiles)
+        add(renderOf(f.name, smallWith("/fields/ball", R"({"type": "scatter", "file": "spheres.ply"})"),
+                     {"/fields/ball/file", "spheres.ply", f.mention}, {{"spheres.ply", f.content}}));
+    add(renderOf("scatter_file_missing", smallWith("/fields/ball", R"({"type": "scatter", "file": "none.ply"})"),
+                 {"/fields/ball/file", "none.ply", "not found"}));
+    add(renderOf("scatter_file_and_count",
+                 smallWith("/fields/ball", R"({"type": "scatter", "file": "spheres.ply", "count": 5})"), {"/fields/ball/count"},
+                 {{"spheres.ply", "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
+                                  "property float z\nproperty float radius\nend_header\n0 0 0 1\n"}}));
+
     // A field whose parameters put its surface out of reach is named as a whole.
     for (const Value& v : values)
         add(renderOf(v.name, smallWith(v.pointer, v.value),

@@ -13,6 +13,7 @@
 #include "geometry/description/field_parser.h"
 #include "geometry/smooth_min.h"
 #include "geometry/tracing/implicit_surface.h"
+#include "support/temporary_files.h"
 
 using namespace isotrace::geometry;
 
@@ -168,5 +169,43 @@ TEST(SphereSet, ScatterIsTheSameOnEveryRunAndStaysInItsRegion) {
         EXPECT_EQ(sa.sphere(i).center, sb.sphere(i).center);
         EXPECT_TRUE(Box3(Vec3(0, 0, 0), Vec3(1, 2, 3)).contains(sa.sphere(i).center));
         EXPECT_EQ(sa.sphere(i).radius, 0.1);
+    }
+}
+
+// An operand list read from PLY: ASCII with a radius column and other
+// columns beside it, binary little-endian without one (the shape's radius),
+// the same spheres either way.
+TEST(SphereSet, ScatterReadsSpheresFromPlyFiles) {
+    isotrace::testing::TemporaryFolder folder;
+    folder.write("ascii.ply", "ply\nformat ascii 1.0\ncomment three spheres\nelement vertex 3\nproperty float x\n"
+                              "property float y\nproperty float z\nproperty uchar red\nproperty double radius\n"
+                              "element face 0\nproperty list uchar int vertex_indices\nend_header\n"
+                              "0 0 0 255 0.5\n1.5 0 0 0 0.25\n-1 2 0.5 7 1\n");
+    std::string binary = "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                         "property double z\nend_header\n";
+    for (const auto& [x, y, z] : {std::array<double, 3>{0, 0, 0}, {1.5, 0, 0}, {-1, 2, 0.5}}) {
+        const float xy[2] = {float(x), float(y)};
+        binary.append(reinterpret_cast<const char*>(xy), sizeof(xy));
+        binary.append(reinterpret_cast<const char*>(&z), sizeof(z));
+    }
+    folder.write("binary.ply", binary);
+    const Json library = Json::parse(R"({"ascii": {"type": "scatter", "file": "ascii.ply"},
+        "binary": {"type": "scatter", "file": "binary.ply", "shape": {"type": "sphere", "radius": 0.3}}})");
+    FieldLibrary fields(library, "/fields", folder.file("scene.json"));
+    const FieldProgram ascii = fields.compile("ascii"), binaryProgram = fields.compile("binary");
+    const auto& a = std::get<SphereSetField>(ascii.leaf(0).shape);
+    const auto& b = std::get<SphereSetField>(binaryProgram.leaf(0).shape);
+    ASSERT_EQ(a.members.size(), 3u);
+    ASSERT_EQ(b.members.size(), 3u);
+    // The union's value at points against the spheres written.
+    const std::vector<SphereField> written = {{Vec3(0, 0, 0), 0.5}, {Vec3(1.5, 0, 0), 0.25}, {Vec3(-1, 2, 0.5), 1}};
+    for (const Vec3& p : {Vec3(0.2, 0.1, 0), Vec3(1.6, 0, 0.1), Vec3(-1, 1.5, 0.4), Vec3(3, 3, 3)}) {
+        double expected = std::numeric_limits<double>::infinity(), expectedBinary = expected;
+        for (const SphereField& s : written) {
+            expected = std::min(expected, s.value(p));
+            expectedBinary = std::min(expectedBinary, (p - s.center).norm() - 0.3);
+        }
+        EXPECT_NEAR(a.value(p), expected, 1e-6);
+        EXPECT_NEAR(b.value(p), expectedBinary, 1e-6);
     }
 }
