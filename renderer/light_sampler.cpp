@@ -63,7 +63,9 @@ int LightSampler::sample(const LightSampleContext& context, double u, double tot
         }
         if (w > 0) last = i, lastWeight = w;
     }
-    const double treeWeight = tree_.importance(context);
+    // With no light beside the tree the total is the root's importance, to
+    // the bit: it is not weighed again.
+    const double treeWeight = direct_.empty() ? total : tree_.importance(context);
     if (treeWeight > 0) {
         // The rest of [0, total) is the tree's: rescaled, u chooses in it.
         const double v = std::clamp((target - sum) / treeWeight, 0.0, kBelowOne);
@@ -81,7 +83,8 @@ int LightSampler::sample(const LightSampleContext& context, double u, double tot
 
 double LightSampler::pmf(const LightSampleContext& context, int index, double total) const {
     if (!(total > 0)) return 0.0;
-    if (tree_.contains(index)) return tree_.importance(context) / total * tree_.pmf(context, index);
+    if (tree_.contains(index))
+        return (direct_.empty() ? 1.0 : tree_.importance(context) / total) * tree_.pmf(context, index);
     return safeImportance(*lights_[size_t(index)], context) / total;
 }
 
