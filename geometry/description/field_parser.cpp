@@ -5,7 +5,7 @@
 #include "geometry/description/variational_description.h"
 #include "geometry/fields/vdb_level_set.h"
 #include "geometry/physical_memory.h"
-#include "geometry/sphere_file.h"
+#include "geometry/description/sphere_file.h"
 
 #include <Eigen/SVD>
 #include <algorithm>

@@ -1,4 +1,4 @@
-#include "geometry/sphere_file.h"
+#include "geometry/description/sphere_file.h"
 
 #include <array>
 #include <cmath>
