@@ -80,6 +80,9 @@ public:
     virtual RGB meanRadiance() const { return RGB::Zero(); }
 };
 
+/// An importance as a sampling weight: zero unless finite and positive.
+inline double samplingWeight(double importance) { return std::isfinite(importance) && importance > 0 ? importance : 0.0; }
+
 /// An upper bound of cos(a, d') over all directions d' within an angle of
 /// sine `sinSlack` of unit direction d (sinSlack >= 1: any direction).
 /// Light importances use it to bound the cosines over a light's extent.

@@ -1,20 +1,9 @@
 #include "renderer/light_sampler.h"
 
 #include <algorithm>
-#include <cmath>
-#include <limits>
 #include <optional>
-#include <numbers>
 
 namespace isotrace {
-
-namespace {
-double safeImportance(const Light& light, const LightSampleContext& context) {
-    const double w = light.importance(context);
-    return std::isfinite(w) && w > 0 ? w : 0.0;
-}
-constexpr double kBelowOne = 1.0 - std::numeric_limits<double>::epsilon() / 2;
-}  // namespace
 
 double sphereSinHalfAngle(double r, double distance) { return distance <= r ? 1.0 : r / distance; }
 
@@ -44,7 +33,7 @@ LightSampler::LightSampler(const std::vector<std::unique_ptr<const Light>>& ligh
 
 double LightSampler::totalImportance(const LightSampleContext& context) const {
     double total = tree_.importance(context);
-    for (const int i : direct_) total += safeImportance(*lights_[size_t(i)], context);
+    for (const int i : direct_) total += samplingWeight(lights_[size_t(i)]->importance(context));
     return total;
 }
 
@@ -55,7 +44,7 @@ int LightSampler::sample(const LightSampleContext& context, double u, double tot
     int last = -1;
     double lastWeight = 0.0;
     for (const int i : direct_) {
-        const double w = safeImportance(*lights_[size_t(i)], context);
+        const double w = samplingWeight(lights_[size_t(i)]->importance(context));
         sum += w;
         if (w > 0 && target < sum) {
             pmf = w / total;
@@ -68,7 +57,7 @@ int LightSampler::sample(const LightSampleContext& context, double u, double tot
     const double treeWeight = direct_.empty() ? total : tree_.importance(context);
     if (treeWeight > 0) {
         // The rest of [0, total) is the tree's: rescaled, u chooses in it.
-        const double v = std::clamp((target - sum) / treeWeight, 0.0, kBelowOne);
+        const double v = std::clamp((target - sum) / treeWeight, 0.0, kLargestBelowOne);
         double within = 0.0;
         const int chosen = tree_.sample(context, v, within);
         if (chosen < 0) return -1;
@@ -85,7 +74,7 @@ double LightSampler::pmf(const LightSampleContext& context, int index, double to
     if (!(total > 0)) return 0.0;
     if (tree_.contains(index))
         return (direct_.empty() ? 1.0 : tree_.importance(context) / total) * tree_.pmf(context, index);
-    return safeImportance(*lights_[size_t(index)], context) / total;
+    return samplingWeight(lights_[size_t(index)]->importance(context)) / total;
 }
 
 }  // namespace isotrace

@@ -10,9 +10,6 @@ namespace isotrace {
 namespace {
 
 constexpr int kBuckets = 12;
-constexpr double kBelowOne = 1.0 - std::numeric_limits<double>::epsilon() / 2;
-
-double safeImportance(double w) { return std::isfinite(w) && w > 0 ? w : 0.0; }
 
 double surfaceArea(const geometry::Box3& box) {
     const Vec3 e = box.extent().cwiseMax(0.0);
@@ -100,7 +97,7 @@ void LightTree::build(std::vector<int>& members, size_t begin, size_t end, const
 
 double LightTree::nodeImportance(int32_t node, const LightSampleContext& context) const {
     const Node& n = nodes_[size_t(node)];
-    return safeImportance(n.isLeaf() ? lights_[size_t(n.light)]->importance(context) : n.bounds.importance(context));
+    return samplingWeight(n.isLeaf() ? lights_[size_t(n.light)]->importance(context) : n.bounds.importance(context));
 }
 
 int LightTree::sample(const LightSampleContext& context, double u, double& pmf) const {
@@ -116,11 +113,11 @@ int LightTree::sample(const LightSampleContext& context, double u, double& pmf) 
         if (!(sum > 0)) return -1;
         const double pFirst = first / sum, pSecond = second / sum;
         if (u < pFirst) {
-            u = std::min(u / pFirst, kBelowOne);
+            u = std::min(u / pFirst, kLargestBelowOne);
             probability *= pFirst;
             node = n.children[0];
         } else {
-            u = std::min((u - pFirst) / pSecond, kBelowOne);
+            u = std::min((u - pFirst) / pSecond, kLargestBelowOne);
             probability *= pSecond;
             node = n.children[1];
         }

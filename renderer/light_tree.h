@@ -10,12 +10,17 @@
 #pragma once
 
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "renderer/light.h"
 #include "renderer/light_bounds.h"
 
 namespace isotrace {
+
+/// The largest double below 1: a u rescaled into a chosen interval stays in
+/// [0, 1).
+inline constexpr double kLargestBelowOne = 1.0 - std::numeric_limits<double>::epsilon() / 2;
 
 class LightTree {
 public:

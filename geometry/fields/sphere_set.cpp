@@ -12,7 +12,8 @@ namespace {
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
 
 // Scratch storage, one per thread, grown once: evaluating a set allocates
-// nothing in the steady state.
+// nothing in the steady state. Its own, not FieldProgram's: those buffers
+// hold the program's slots while this leaf is evaluated.
 template <class T>
 std::vector<T>& scratch(size_t n) {
     thread_local std::vector<T> storage;
