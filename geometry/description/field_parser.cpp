@@ -371,7 +371,8 @@ uint32_t makeScatter(Compiler& c, JsonObjectReader& r, const LeafPlacement& p) {
     // A sphere costs its 32 bytes here and several hundred in the cells
     // that hold it (bench/RESULTS.md, "Scale"): refuse what would not fit
     // before allocating.
-    const double maxSpheres = 0.5 * physicalMemoryBytes() / 1024.0;
+    constexpr double kBytesPerSphere = 1024.0;
+    const double maxSpheres = 0.5 * physicalMemoryBytes() / kBytesPerSphere;
 
     std::optional<double> radius;
     if (r.has("shape") || !r.has("file")) {
@@ -399,7 +400,7 @@ uint32_t makeScatter(Compiler& c, JsonObjectReader& r, const LeafPlacement& p) {
     if (!r.has("count")) r.fail("count", "is required: how many spheres to scatter (or a \"file\" of them)");
     const long long count = r.integer("count", 1, 1, 100'000'000);
     if (double(count) > maxSpheres)
-        r.fail("count", std::to_string(count) + " spheres would need about " + std::to_string(double(count) / 1e6).substr(0, 4) +
+        r.fail("count", std::to_string(count) + " spheres would need about " + std::to_string(double(count) * kBytesPerSphere / 1e9).substr(0, 4) +
                             " GB, more than half of this machine's memory");
     const auto seed = uint64_t(r.integer("seed", 0, 0, 1LL << 53));
     const Json* regionJson = r.optionalValue("region");
