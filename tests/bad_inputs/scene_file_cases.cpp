@@ -342,6 +342,12 @@ std::vector<BadInputCase> sceneFileCases() {
           "shape": {"type": "sphere", "radius": 0.1}, "scale": [2, 1]})"},
         {"scatter_blend_on_union", "/fields/ball/radius", R"({"type": "scatter", "count": 10, "region": [[-1, -1, -1], [1, 1, 1]],
           "shape": {"type": "sphere", "radius": 0.1}, "radius": 0.1})"},
+        {"scatter_unknown_operation", "/fields/ball/operation", R"({"type": "scatter", "count": 10, "operation": "xor",
+          "region": [[-1, -1, -1], [1, 1, 1]], "shape": {"type": "sphere", "radius": 0.1}})"},
+        {"scatter_shape_missing", "/fields/ball/shape", R"({"type": "scatter", "count": 10, "region": [[-1, -1, -1], [1, 1, 1]]})"},
+        {"scatter_seed_negative", "/fields/ball/seed", R"({"type": "scatter", "count": 10, "seed": -1,
+          "region": [[-1, -1, -1], [1, 1, 1]], "shape": {"type": "sphere", "radius": 0.1}})"},
+        {"scatter_file_number", "/fields/ball/file", R"({"type": "scatter", "file": 3, "shape": {"type": "sphere", "radius": 0.1}})"},
         {"scatter_smooth_without_radius", "/fields/ball/radius", R"({"type": "scatter", "count": 10, "operation": "smooth_union",
           "region": [[-1, -1, -1], [1, 1, 1]], "shape": {"type": "sphere", "radius": 0.1}})"},
     };
