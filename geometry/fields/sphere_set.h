@@ -18,6 +18,22 @@ namespace isotrace::geometry {
 
 enum class SetOperation { Union, SmoothUnion, Intersection };
 
+/// A bounding hierarchy over spheres in Morton order: each node a run of
+/// consecutive spheres, halved down to runs of a few. Large sets find the
+/// spheres that matter in a box through it instead of testing every one,
+/// so refining a million spheres costs each cell what it keeps.
+struct SphereHierarchy {
+    struct Node {
+        Box3 centres;  ///< bounds of the run's sphere centres
+        double largestRadius = 0.0;
+        uint32_t begin = 0, end = 0;  ///< the run [begin, end) of the spheres
+        uint32_t second = 0;          ///< the second child (the first follows the node); 0 at a leaf
+    };
+    std::vector<Node> nodes;  ///< depth first, the root first
+
+    static SphereHierarchy over(const std::vector<SphereField>& spheres);
+};
+
 struct SphereSetField {
     SetOperation operation = SetOperation::Union;
     /// The smooth union's blend radius k. Its spheres are folded by the
@@ -31,6 +47,11 @@ struct SphereSetField {
     std::shared_ptr<const std::vector<SphereField>> all;
     /// Which of them this copy holds (all, until pruned), in increasing order.
     std::vector<uint32_t> members;
+    /// Over `all`, shared likewise.
+    std::shared_ptr<const SphereHierarchy> hierarchy;
+    /// The box this copy was pruned to (everywhere, until pruned): inside
+    /// it, its members are those of the whole set that can matter.
+    Box3 region = Box3::everything();
 
     /// A set of these spheres, sorted into Morton order, holding them all.
     static SphereSetField of(std::vector<SphereField> spheres, SetOperation operation, double blend = 0.0);
@@ -46,6 +67,13 @@ struct SphereSetField {
     /// The same field inside `box`, with only the spheres that matter there.
     SphereSetField prunedTo(const Box3& box) const;
     size_t termCount() const { return members.size(); }
+
+private:
+    /// Large unions and smooth unions go through the hierarchy; the
+    /// results are those of testing every member, to the bit.
+    bool indexed(const Box3& box) const;
+    Interval indexedRange(const Box3& box) const;
+    double smallestHigh(const Box3& box) const;
 };
 
 }  // namespace isotrace::geometry

@@ -112,6 +112,46 @@ TEST(SphereSet, PrunedCopiesAreExactInTheirBoxesAndRangesHoldTheValues) {
     }
 }
 
+// Large sets find their spheres through the hierarchy: the same ranges
+// and the same pruned members as testing every sphere, to the bit, for
+// boxes of every size, near and far, and for subsets already pruned.
+TEST(SphereSet, HierarchyGivesExactlyWhatTestingEverySphereGives) {
+    for (const SetOperation operation : {SetOperation::Union, SetOperation::SmoothUnion}) {
+        const SphereSetField indexed = randomSet(operation, 40000, 21, 0.02);
+        ASSERT_TRUE(indexed.hierarchy);
+        SphereSetField linear = indexed;
+        linear.hierarchy.reset();
+        std::mt19937 rng(22);
+        std::uniform_real_distribution<double> u(-1.5, 1.5), size(0.2, 2.0);
+        size_t visitedBoxes = 0;
+        for (int b = 0; b < 100; ++b) {
+            const Vec3 lower(u(rng), u(rng), u(rng));
+            const Box3 box(lower, lower + Vec3(size(rng), size(rng), size(rng)));
+            const Interval a = indexed.range(box), e = linear.range(box);
+            EXPECT_EQ(a.lo, e.lo) << box;
+            EXPECT_EQ(a.hi, e.hi) << box;
+            const SphereSetField pruned = indexed.prunedTo(box), expected = linear.prunedTo(box);
+            EXPECT_EQ(pruned.members, expected.members) << box;
+            // A child of a large pruned copy, through the hierarchy again.
+            if (pruned.members.size() > 4096) {
+                ++visitedBoxes;
+                SphereSetField prunedLinear = pruned;
+                prunedLinear.hierarchy.reset();
+                const Box3 child = box.octant(b % 8);
+                EXPECT_EQ(pruned.prunedTo(child).members, prunedLinear.prunedTo(child).members);
+                EXPECT_EQ(pruned.range(child).lo, prunedLinear.range(child).lo);
+                EXPECT_EQ(pruned.range(child).hi, prunedLinear.range(child).hi);
+                // Past its box the copy's list is all it has: it tests its
+                // members, as the linear copy does.
+                const Box3 wider = box.expanded(0.1);
+                EXPECT_EQ(pruned.range(wider).lo, prunedLinear.range(wider).lo);
+                EXPECT_EQ(pruned.prunedTo(wider).members, prunedLinear.prunedTo(wider).members);
+            }
+        }
+        EXPECT_GT(visitedBoxes, 10u);
+    }
+}
+
 // Rays from outside every sphere meet a union first where they enter the
 // nearest sphere along them: |o + t d - c| = r in closed form.
 TEST(SphereSet, ScatteredUnionTracesToTheClosedFormHits) {
