@@ -2,6 +2,7 @@
 // must hold for all of them (bound soundness, no false misses).
 #pragma once
 
+#include <random>
 #include <string>
 #include <utility>
 #include <vector>
@@ -27,6 +28,74 @@ inline const char* kCatalogLibrary = R"({
 
 /// A torus (major 0.9, minor 0.3) as an OpenVDB level set of 0.08 voxels.
 inline const char* kVdbTorus = ISOTRACE_TEST_DATA_DIR "/torus.vdb";
+
+/// A CSG tree of `leaves` primitives drawn at random (spheres, boxes,
+/// rounded boxes, tori, capsules and blob pairs, some turned) under
+/// operators drawn at random (unions of two to four, intersections,
+/// differences and the smooth forms of all three), around the unit cube:
+/// the proofs must hold on large trees of mixed operators, not only on the
+/// hand-made ones.
+inline std::string randomMixedTree(uint32_t seed, int leaves) {
+    using geometry::Json;
+    std::mt19937 rng(seed);
+    auto uniform = [&](double lo, double hi) { return std::uniform_real_distribution<double>(lo, hi)(rng); };
+    auto point = [&](double extent) { return Json::array({uniform(-extent, extent), uniform(-extent, extent), uniform(-extent, extent)}); };
+    auto primitive = [&]() -> Json {
+        const double size = uniform(0.12, 0.35);
+        Json leaf;
+        switch (std::uniform_int_distribution<int>(0, 5)(rng)) {
+            case 0: leaf = {{"type", "sphere"}, {"center", point(0.8)}, {"radius", size}}; break;
+            case 1: leaf = {{"type", "box"}, {"center", point(0.8)}, {"size", point(size) }}; break;
+            case 2: leaf = {{"type", "box"}, {"center", point(0.8)}, {"size", {2 * size, 1.5 * size, size}}, {"rounding", 0.3 * size}}; break;
+            case 3: leaf = {{"type", "torus"}, {"center", point(0.8)}, {"major", size}, {"minor", 0.3 * size}}; break;
+            case 4: leaf = {{"type", "capsule"}, {"from", point(0.8)}, {"to", point(0.8)}, {"radius", 0.4 * size}}; break;
+            default: {
+                const Json c = point(0.7);
+                leaf = {{"type", "blobby"}, {"kernel", "poly6"}, {"threshold", 0.3},
+                        {"blobs", {{{"center", c}, {"radius", 2 * size}},
+                                   {{"center", {c[0].get<double>() + size, c[1], c[2]}}, {"radius", 2 * size}}}}};
+            }
+        }
+        // Box sizes drawn about zero are made positive.
+        if (leaf.contains("size"))
+            for (auto& v : leaf["size"]) v = std::abs(v.get<double>()) + 0.1;
+        if (uniform(0, 1) < 0.2) {
+            const Json axis = {uniform(0.2, 1.0), uniform(-1, 1), uniform(-1, 1)};
+            leaf = {{"type", "transform"}, {"rotate", {{"axis", axis}, {"angle", uniform(0, 90)}}}, {"of", leaf}};
+        }
+        return leaf;
+    };
+    // What an intersection keeps: a large ball or box about the middle.
+    auto trim = [&]() -> Json {
+        if (uniform(0, 1) < 0.5) return {{"type", "sphere"}, {"center", point(0.3)}, {"radius", uniform(0.7, 1.0)}};
+        return {{"type", "box"}, {"center", point(0.3)}, {"size", {uniform(1.2, 1.8), uniform(1.2, 1.8), uniform(1.2, 1.8)}}};
+    };
+    auto tree = [&](auto&& self, int count) -> Json {
+        if (count == 1) return primitive();
+        static const char* kOperators[] = {"union", "union", "union", "intersection", "difference",
+                                           "smooth_union", "smooth_intersection", "smooth_difference"};
+        const std::string op = kOperators[std::uniform_int_distribution<int>(0, 7)(rng)];
+        // Unions take two to four operands; the rest two.
+        const int operands = op == "union" ? std::min(count, std::uniform_int_distribution<int>(2, 4)(rng)) : 2;
+        Json node = {{"type", op}, {"of", Json::array()}};
+        if (op.rfind("smooth_", 0) == 0) node["radius"] = uniform(0.02, 0.15);
+        // Intersections and differences take one leaf off the rest, so
+        // they trim a part rather than empty it.
+        if (op.find("union") == std::string::npos) {
+            node["of"].push_back(self(self, count - 1));
+            node["of"].push_back(op.find("intersection") != std::string::npos ? trim() : primitive());
+            return node;
+        }
+        int left = count;
+        for (int k = 0; k < operands; ++k) {
+            const int share = k + 1 == operands ? left : std::max(1, left / (operands - k));
+            node["of"].push_back(self(self, share));
+            left -= share;
+        }
+        return node;
+    };
+    return tree(tree, leaves).dump();
+}
 
 inline std::vector<CatalogEntry> fieldCatalog() {
     return {
@@ -99,6 +168,9 @@ inline std::vector<CatalogEntry> fieldCatalog() {
             "region": [[-0.7, -0.7, -0.7], [0.7, 0.7, 0.7]], "shape": {"type": "sphere", "radius": 0.15}}]},
             {"type": "scatter", "count": 60, "seed": 5, "operation": "smooth_union", "radius": 0.05,
             "region": [[0.6, -0.4, -0.4], [1.0, 0.4, 0.4]], "shape": {"type": "sphere", "radius": 0.1}}]}})"},
+        // Large trees drawn at random with every operator.
+        {"random_tree_60", randomMixedTree(7, 60)},
+        {"random_tree_120", randomMixedTree(8, 120)},
         {"union", R"({"type": "union", "of": ["ball", "ring"]})"},
         {"intersection", R"({"type": "intersection", "of": ["ball", "cube"]})"},
         {"difference", R"({"type": "difference", "of": ["cube", "ball"]})"},
