@@ -306,6 +306,19 @@ SphereSetField SphereSetField::prunedTo(const Box3& box) const {
     return out;
 }
 
+std::vector<uint32_t> SphereSetField::membersReaching(const Box3& box) const {
+    std::vector<uint32_t> reaching;
+    for (const uint32_t i : members)
+        if ((*all)[i].range(box).lo <= 0.0) reaching.push_back(i);
+    return reaching;
+}
+
+size_t SphereSetField::countReaching(const Box3& box) const {
+    size_t n = 0;
+    for (const uint32_t i : members) n += (*all)[i].range(box).lo <= 0.0;
+    return n;
+}
+
 namespace {
 
 // Three 21-bit coordinates interleaved: z-order of a point in the unit cube.

@@ -66,6 +66,11 @@ struct SphereSetField {
     Box3 bounds() const;
     /// The same field inside `box`, with only the spheres that matter there.
     SphereSetField prunedTo(const Box3& box) const;
+    /// The members (indices into `all`) that reach into `box`: all a ray
+    /// inside it can enter or leave. Fewer than prunedTo keeps, which holds
+    /// those that decide the value there too.
+    std::vector<uint32_t> membersReaching(const Box3& box) const;
+    size_t countReaching(const Box3& box) const;
     size_t termCount() const { return members.size(); }
 
 private:

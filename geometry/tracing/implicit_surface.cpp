@@ -59,19 +59,13 @@ struct RefinedLevel {
 // of one (ImplicitSurfaceOptions::distanceCellDepth).
 constexpr size_t kSmallDistanceProgram = 4;
 
-// Cells over sphere sets (fields/sphere_set.h) refine until each holds at
-// most this many spheres, as deep as kSetMaxDepth and to a budget that
-// grows with the set: a cell then costs a ray what it holds, not the set.
+// Cells over sphere sets (fields/sphere_set.h) refine until a ray pays at
+// most this many spheres in each (sphereSetCellCost), as deep as
+// kSetMaxDepth and to a budget that grows with the set: a cell then costs
+// a ray what it holds, not the set.
 constexpr size_t kSetMembersPerCell = 128;
 constexpr int kSetMaxDepth = 12;
 
-size_t setMembers(const FieldProgram& program) {
-    size_t n = 0;
-    for (const FieldInstruction& in : program.instructions())
-        if (in.op == FieldOp::Leaf)
-            if (const auto* set = std::get_if<SphereSetField>(&program.leaf(in.a).shape)) n += set->members.size();
-    return n;
-}
 
 // Refine level by level, keeping only cells whose range holds zero. Each
 // cell carries its field pruned to its box (exact there), so a child's
@@ -83,7 +77,7 @@ size_t setMembers(const FieldProgram& program) {
 RefinedLevel refineCells(const Box3& root, const FieldProgram& field, const ImplicitSurfaceOptions& options) {
     using Program = std::shared_ptr<FieldProgram>;
     RefinedLevel level{{root}, {std::make_shared<FieldProgram>(field)}, {0}};
-    const size_t members = setMembers(field);
+    const size_t members = sphereSetCellCost(field, root);
     const int depthLimit = members > kSetMembersPerCell ? std::max(options.maxDepth, kSetMaxDepth) : options.maxDepth;
     const size_t budget = std::max(options.cellBudget, 2 * members);
     for (int depth = 0; depth < depthLimit; ++depth) {
@@ -137,14 +131,15 @@ RefinedLevel refineCells(const Box3& root, const FieldProgram& field, const Impl
             tbb::parallel_for(size_t(0), next.boxes.size(), [&](size_t i) {
                 const FieldProgram& program = *next.programs[i];
                 const size_t allowed = depth + 1 >= options.distanceCellDepth + 1 ? kSmallDistanceProgram : 1;
-                if (!next.final[i] && program.instructionCount() <= allowed && setMembers(program) <= kSetMembersPerCell &&
+                if (!next.final[i] && program.instructionCount() <= allowed &&
+                    sphereSetCellCost(program, next.boxes[i]) <= kSetMembersPerCell &&
                     program.estimate(next.boxes[i]).lipschitz <= 1.0 + 1e-9)
                     next.final[i] = 1;
             });
         // Past the usual depth only cells over many spheres refine on.
         if (depth + 1 >= options.maxDepth)
             for (size_t i = 0; i < next.boxes.size(); ++i)
-                if (setMembers(*next.programs[i]) <= kSetMembersPerCell) next.final[i] = 1;
+                if (sphereSetCellCost(*next.programs[i], next.boxes[i]) <= kSetMembersPerCell) next.final[i] = 1;
         level = std::move(next);
         if (std::all_of(level.final.begin(), level.final.end(), [](uint8_t f) { return f != 0; })) break;
     }

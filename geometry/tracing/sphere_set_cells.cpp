@@ -11,8 +11,9 @@ namespace {
 
 class SphereSetCellTracer final : public CellTracer {
 public:
-    SphereSetCellTracer(const SphereSetField& set, const LeafPlacement& placement, double sign)
-        : all_(set.all), members_(set.members), placement_(placement), sign_(sign) {}
+    SphereSetCellTracer(std::shared_ptr<const std::vector<SphereField>> all, std::vector<uint32_t> members,
+                        const LeafPlacement& placement, double sign)
+        : all_(std::move(all)), members_(std::move(members)), placement_(placement), sign_(sign) {}
 
     CellTraceResult trace(uint32_t, const PartBand&, const PartPayload& payload, const Vec3& origin,
                           const Vec3& direction, double t0, double t1, const TraceSettings& settings) const override {
@@ -81,23 +82,60 @@ private:
     uint32_t parts_ = 1;
 };
 
-}  // namespace
-
-std::optional<CellAcceleration> SphereSetCellAccelerator::accelerate(const FieldProgram& program, const Box3& box,
-                                                                     double) const {
-    bool negated = false;
+// The union of spheres a cell's program is, alone or negated (a
+// difference's carving operand), or null.
+const SphereSetField* closedFormUnion(const FieldProgram& program, bool& negated, const LeafPlacement*& placement) {
     const FieldLeaf* leaf = program.leafUpToSign(negated);
     const auto* set = leaf ? std::get_if<SphereSetField>(&leaf->shape) : nullptr;
-    if (!set || set->operation != SetOperation::Union) return std::nullopt;
+    if (!set || set->operation != SetOperation::Union) return nullptr;
+    placement = &leaf->placement;
+    return set;
+}
+
+Box3 inLeafFrame(const LeafPlacement& placement, const Box3& box) {
+    return placement.identity ? box : transformBox(placement.linear, placement.offset, box);
+}
+
+// A ray's segment in a cell starts up to the trace's resolution before it
+// (ImplicitSurface::intersectCell; 1e-6 of the surface's diagonal): spheres
+// this much farther off are kept too.
+constexpr double kReachMargin = 1e-4;
+
+}  // namespace
+
+size_t sphereSetCellCost(const FieldProgram& program, const Box3& box) {
+    bool negated = false;
+    const LeafPlacement* placement = nullptr;
+    if (const SphereSetField* set = closedFormUnion(program, negated, placement))
+        return set->countReaching(inLeafFrame(*placement, box));
+    size_t members = 0;
+    for (const FieldInstruction& in : program.instructions())
+        if (in.op == FieldOp::Leaf)
+            if (const auto* set = std::get_if<SphereSetField>(&program.leaf(in.a).shape)) members += set->members.size();
+    return members;
+}
+
+std::optional<CellAcceleration> SphereSetCellAccelerator::accelerate(const FieldProgram& program, const Box3& box,
+                                                                     double surfaceDiagonal) const {
+    bool negated = false;
+    const LeafPlacement* placement = nullptr;
+    const SphereSetField* set = closedFormUnion(program, negated, placement);
+    if (!set) return std::nullopt;
+    // The tracer keeps only the spheres a ray in the cell can meet; the
+    // pruned program holds more, those that decide the value there.
+    std::vector<uint32_t> reaching =
+        set->membersReaching(inLeafFrame(*placement, box.expanded(kReachMargin * surfaceDiagonal)));
+    CellAcceleration a;
+    // No sphere reaches in: the cell is all inside or all outside.
+    if (reaching.empty()) return a;
     // The whole cell is the part: shrinking it to the surface would cost
     // up to 72 ranges of every member, most of a large set's start-up, and
     // a cell of dozens of spheres has surface throughout.
-    CellAcceleration a;
     a.parts = {box};
     PartPayload payload;
-    payload.termCount = uint32_t(set->members.size());
+    payload.termCount = uint32_t(reaching.size());
     a.payloads = {payload};
-    a.tracer = std::make_unique<SphereSetCellTracer>(*set, leaf->placement, negated ? -1.0 : 1.0);
+    a.tracer = std::make_unique<SphereSetCellTracer>(set->all, std::move(reaching), *placement, negated ? -1.0 : 1.0);
     return a;
 }
 

@@ -12,6 +12,12 @@
 
 namespace isotrace::geometry {
 
+/// What a ray pays per cell over sphere sets: in a lone union of spheres
+/// (up to sign) one quadratic per sphere reaching the cell, elsewhere an
+/// evaluation of every member per step. The octree refines cells over
+/// sets until this is small.
+size_t sphereSetCellCost(const FieldProgram& cellProgram, const Box3& cellBox);
+
 class SphereSetCellAccelerator final : public CellAccelerator {
 public:
     std::optional<CellAcceleration> accelerate(const FieldProgram& cellProgram, const Box3& cellBox,
