@@ -34,7 +34,17 @@ struct SceneObject {
     std::string name;
     int shape = 0;  ///< index into Scene::meshes, Scene::surfaces or Scene::discs
     int material = 0;
-    int areaLight = -1;  ///< index into Scene::lights for emissive objects
+    int areaLight = -1;  ///< index into Scene::lights for an emissive implicit object
+    /// An emissive mesh's lights, one per triangle (-1 for one without
+    /// area), so the light tree bounds and picks them one by one; empty
+    /// for a quad or disk light, whose triangles make one flat light.
+    std::vector<int> triangleLights;
+    bool emitsAsOneLight = false;  ///< a quad or disk light (SceneBuilder::addEmitter)
+    /// The light a hit on this object's primitive (a mesh's triangle) emits
+    /// as, or -1.
+    int lightAt(unsigned primitive) const {
+        return triangleLights.empty() ? areaLight : triangleLights[primitive];
+    }
     int planeMirror = -1;  ///< index into Scene::planeMirrors for flat mirrors
     Mat4 worldFromObject = Mat4::Identity();
     Mat3 normalFromObject = Mat3::Identity();  ///< inverse transpose of the linear part

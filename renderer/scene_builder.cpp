@@ -100,6 +100,7 @@ int SceneBuilder::addEmitter(TriangleMesh mesh, const Emission& emission, const 
     o.name = name;
     o.shape = addMesh(std::move(mesh));
     o.material = int(scene_->materials.size() - 1);
+    o.emitsAsOneLight = true;
     return addObject(o);
 }
 
@@ -117,17 +118,24 @@ std::unique_ptr<Scene> SceneBuilder::build() {
         const Material& m = scene_->materials[o.material];
         if (!m.emission || o.kind != SceneObject::Kind::Mesh) continue;
         const TriangleMesh& mesh = *scene_->meshes[o.shape];
-        std::vector<std::array<Vec3, 3>> triangles;
-        for (size_t t = 0; t < mesh.triangleCount(); ++t) {
-            std::array<Vec3, 3> tri;
+        std::vector<std::array<Vec3, 3>> triangles(mesh.triangleCount());
+        for (size_t t = 0; t < mesh.triangleCount(); ++t)
             for (int k = 0; k < 3; ++k) {
                 const Eigen::Vector4d p = o.worldFromObject * mesh.vertex(mesh.indices[3 * t + k]).homogeneous();
-                tri[k] = p.head<3>();
+                triangles[t][k] = p.head<3>();
             }
-            triangles.push_back(tri);
+        if (o.emitsAsOneLight) {
+            o.areaLight = int(scene_->lights.size());
+            scene_->lights.push_back(makeAreaLight(std::move(triangles), *m.emission));
+            continue;
         }
-        o.areaLight = int(scene_->lights.size());
-        scene_->lights.push_back(makeAreaLight(std::move(triangles), *m.emission));
+        o.triangleLights.assign(triangles.size(), -1);
+        for (size_t t = 0; t < triangles.size(); ++t) {
+            const auto& [a, b, c] = triangles[t];
+            if (!((b - a).cross(c - a).norm() > 0.0)) continue;  // no area: never sampled, never hit
+            o.triangleLights[t] = int(scene_->lights.size());
+            scene_->lights.push_back(makeAreaLight({triangles[t]}, *m.emission));
+        }
     }
     scene_->commit();
     // Emissive implicit objects are traced when sampled: their lights come

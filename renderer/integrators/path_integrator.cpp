@@ -60,13 +60,14 @@ public:
                 const bool front = material.emission->twoSided || hit.geometricNormal.dot(wo) > 0;
                 if (front) {
                     double w = 1.0;
-                    if (!countEmissionFully && object.areaLight >= 0) {
+                    const int light = object.lightAt(hit.primitive);
+                    if (!countEmissionFully && light >= 0) {
                         const double lightPdf =
-                            lights[object.areaLight]->pdf(previous, ray.direction, hit.position, hit.geometricNormal) *
-                            scene.lightSampler.pmf(previous, object.areaLight, previousImportance);
+                            lights[light]->pdf(previous, ray.direction, hit.position, hit.geometricNormal) *
+                            scene.lightSampler.pmf(previous, light, previousImportance);
                         w = powerHeuristic(bsdfPdf, lightPdf);
-                    } else if (viaMirror >= 0 && object.areaLight >= 0) {
-                        if (const int image = scene.planeMirrors[viaMirror].imageOfLight[object.areaLight]; image >= 0) {
+                    } else if (viaMirror >= 0 && light >= 0) {
+                        if (const int image = scene.planeMirrors[viaMirror].imageOfLight[light]; image >= 0) {
                             const double imagePdf = lights[image]->pdf(previous, directionAtPrevious, hit.position,
                                                                        hit.geometricNormal) *
                                                     scene.lightSampler.pmf(previous, image, previousImportance);
