@@ -91,6 +91,11 @@ public:
     std::vector<std::shared_ptr<DiscPoints>> discs;
     std::vector<SceneObject> objects;
     std::vector<std::unique_ptr<const Light>> lights;
+    /// The lights as an integrator that samples each one (whitted) sees
+    /// them: every light, but each emissive mesh as one light over all its
+    /// triangles (held in meshLights) instead of one per triangle.
+    std::vector<const Light*> groupedLights;
+    std::vector<std::unique_ptr<const Light>> meshLights;
     int environmentLight = -1;
     /// Flat mirrors, whose lights' images follow the scene's own lights.
     std::vector<PlaneMirror> planeMirrors;

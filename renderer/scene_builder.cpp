@@ -136,6 +136,7 @@ std::unique_ptr<Scene> SceneBuilder::build() {
             o.triangleLights[t] = int(scene_->lights.size());
             scene_->lights.push_back(makeAreaLight({triangles[t]}, *m.emission));
         }
+        scene_->meshLights.push_back(makeAreaLight(std::move(triangles), *m.emission));
     }
     scene_->commit();
     // Emissive implicit objects are traced when sampled: their lights come
@@ -147,6 +148,13 @@ std::unique_ptr<Scene> SceneBuilder::build() {
         scene_->lights.push_back(makeImplicitEmitterLight(*scene_, o, *m.emission));
     }
     addMirrorImages(*scene_);
+    std::vector<bool> ofATriangle(scene_->lights.size(), false);
+    for (const SceneObject& o : scene_->objects)
+        for (const int light : o.triangleLights)
+            if (light >= 0) ofATriangle[size_t(light)] = true;
+    for (size_t l = 0; l < scene_->lights.size(); ++l)
+        if (!ofATriangle[l]) scene_->groupedLights.push_back(scene_->lights[l].get());
+    for (const auto& light : scene_->meshLights) scene_->groupedLights.push_back(light.get());
     scene_->lightSampler = LightSampler(scene_->lights, scene_->integrator->lightSampling());
     scene_->cameraInteriors = interiorsAt(*scene_, scene_->camera.from);
     return std::move(scene_);

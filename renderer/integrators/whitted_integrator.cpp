@@ -57,7 +57,7 @@ private:
         if (bsdf.isDeltaOnly()) return L;
 
         const LightSampleContext here{hit.position, bsdf.transmits() ? Vec3(Vec3::Zero()) : ns};
-        for (const auto& light : scene.lights) {
+        for (const Light* light : scene.groupedLights) {
             if (light->isInfinite() && !light->isDelta()) {
                 L += beta * bsdf.albedo(sp) * light->meanRadiance();
                 continue;

@@ -225,6 +225,8 @@ TEST(DirectLighting, EmissiveMeshIsALightPerTriangleAndMatchesThePolygonFormula)
             {"lights", geometry::Json::array()}};
         auto loaded = loadSceneText(folder, scene.dump());
         EXPECT_EQ(loaded->lights.size(), size_t(sides));
+        // Whitted samples each light once: the mesh there is one light.
+        EXPECT_EQ(loaded->groupedLights.size(), 1u);
         const Image image = render(*loaded, {.threads = 2, .seed = 7, .quiet = true});
         const double expected = 0.5 / std::numbers::pi * polygonIrradiance(Vec3(0.3, 0, 0), Vec3(0, 1, 0), polygon, 4);
         EXPECT_NEAR(image.pixel(4, 4)[0], expected, 0.005 * expected) << integrator;
