@@ -368,11 +368,13 @@ uint32_t makeScatter(Compiler& c, JsonObjectReader& r, const LeafPlacement& p) {
     if (operation == SetOperation::SmoothUnion) blend = r.positiveNumber("radius");
     else if (r.has("radius")) r.fail("radius", "is the blend radius of \"operation\": \"smooth_union\" only");
 
-    // A sphere costs its 32 bytes here and several hundred in the cells
-    // that hold it (bench/RESULTS.md, "Scale"): refuse what would not fit
-    // before allocating.
-    constexpr double kBytesPerSphere = 1024.0;
-    const double maxSpheres = 0.5 * physicalMemoryBytes() / kBytesPerSphere;
+    // A sphere costs its 32 bytes here and more in the cells that hold it:
+    // a few hundred in a union, solved in closed form, and up to 1.7 KB in
+    // a sphere-traced smooth union, whose cells keep every sphere that can
+    // decide their value (bench/RESULTS.md, "Scale"). Refuse what would not
+    // fit before allocating, erring high.
+    const double bytesPerSphere = operation == SetOperation::Union ? 1024.0 : 2048.0;
+    const double maxSpheres = 0.5 * physicalMemoryBytes() / bytesPerSphere;
 
     std::optional<double> radius;
     if (r.has("shape") || !r.has("file")) {
@@ -400,7 +402,7 @@ uint32_t makeScatter(Compiler& c, JsonObjectReader& r, const LeafPlacement& p) {
     if (!r.has("count")) r.fail("count", "is required: how many spheres to scatter (or a \"file\" of them)");
     const long long count = r.integer("count", 1, 1, 100'000'000);
     if (double(count) > maxSpheres)
-        r.fail("count", std::to_string(count) + " spheres would need about " + std::to_string(double(count) * kBytesPerSphere / 1e9).substr(0, 4) +
+        r.fail("count", std::to_string(count) + " spheres would need about " + std::to_string(double(count) * bytesPerSphere / 1e9).substr(0, 4) +
                             " GB, more than half of this machine's memory");
     const auto seed = uint64_t(r.integer("seed", 0, 0, 1LL << 53));
     const Json* regionJson = r.optionalValue("region");
