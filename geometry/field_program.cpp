@@ -191,7 +191,7 @@ void FieldProgram::estimateSlots(const Box3& box, std::vector<BoxEstimate>& slot
             case FieldOp::Leaf: {
                 const FieldLeaf& leaf = leaves_[in.a];
                 const LeafPlacement& pl = leaf.placement;
-                const Box3 leafBox = pl.identity ? box : transformBox(pl.linear, pl.offset, box);
+                const Box3 leafBox = pl.leafFromWorld(box);
                 const Interval r = std::visit([&](const auto& s) { return s.range(leafBox); }, leaf.shape);
                 const double l =
                     withLipschitz ? std::visit([&](const auto& s) { return s.lipschitz(leafBox); }, leaf.shape) : 0.0;
@@ -334,9 +334,7 @@ FieldProgram FieldProgram::prunedTo(const Box3& box) const {
             LeafShape shape = std::visit(
                 [&](const auto& s) -> LeafShape {
                     if constexpr (requires { s.prunedTo(box); }) {
-                        const Box3 leafBox =
-                            leaf.placement.identity ? box : transformBox(leaf.placement.linear, leaf.placement.offset, box);
-                        return s.prunedTo(leafBox);
+                        return s.prunedTo(leaf.placement.leafFromWorld(box));
                     } else {
                         return s;
                     }

@@ -91,6 +91,8 @@ struct LeafPlacement {
 
     bool operator==(const LeafPlacement&) const = default;
     Vec3 leafFromWorld(const Vec3& p) const { return identity ? p : Vec3(linear * p + offset); }
+    /// A box around the image of a world box in the leaf's frame.
+    Box3 leafFromWorld(const Box3& box) const { return identity ? box : transformBox(linear, offset, box); }
     /// Placement of a child whose frame is given by parent = A child + t
     /// with value scale sigma (see FieldParser's transform).
     LeafPlacement composed(const Mat3& childFromParentLinear, const Vec3& childFromParentOffset,

@@ -34,7 +34,7 @@ struct SceneObject {
     std::string name;
     int shape = 0;  ///< index into Scene::meshes, Scene::surfaces or Scene::discs
     int material = 0;
-    int areaLight = -1;  ///< index into Scene::lights for an emissive implicit object
+    int areaLight = -1;  ///< index into Scene::lights for an emissive implicit object, quad or disk
     /// An emissive mesh's lights, one per triangle (-1 for one without
     /// area), so the light tree bounds and picks them one by one; empty
     /// for a quad or disk light, whose triangles make one flat light.

@@ -313,12 +313,6 @@ std::vector<uint32_t> SphereSetField::membersReaching(const Box3& box) const {
     return reaching;
 }
 
-size_t SphereSetField::countReaching(const Box3& box) const {
-    size_t n = 0;
-    for (const uint32_t i : members) n += (*all)[i].range(box).lo <= 0.0;
-    return n;
-}
-
 namespace {
 
 // Three 21-bit coordinates interleaved: z-order of a point in the unit cube.

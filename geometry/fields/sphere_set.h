@@ -70,7 +70,6 @@ struct SphereSetField {
     /// inside it can enter or leave. Fewer than prunedTo keeps, which holds
     /// those that decide the value there too.
     std::vector<uint32_t> membersReaching(const Box3& box) const;
-    size_t countReaching(const Box3& box) const;
     size_t termCount() const { return members.size(); }
 
 private:

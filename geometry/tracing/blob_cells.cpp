@@ -154,7 +154,7 @@ std::optional<CellAcceleration> BlobCellAccelerator::accelerate(const FieldProgr
     if (!blobby || (blobby->kernel != BlobKernel::Poly6 && blobby->kernel != BlobKernel::SoftObject))
         return std::nullopt;
     const LeafPlacement& placement = leaf->placement;
-    const Box3 leafBox = placement.identity ? box : transformBox(placement.linear, placement.offset, box);
+    const Box3 leafBox = placement.leafFromWorld(box);
     // One halving: octants the interval range proves empty drop out, and a
     // ray through an octant pays only for the blobs that reach it.
     std::vector<BlobPart> parts;

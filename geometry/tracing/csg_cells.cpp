@@ -236,8 +236,7 @@ std::optional<CellAcceleration> CsgCellAccelerator::accelerate(const FieldProgra
         if (const auto* torus = std::get_if<TorusField>(&leaf.shape)) taken.shape = *torus;
         if (const auto* b = std::get_if<BoxField>(&leaf.shape)) {
             taken.shape = *b;
-            const Box3 local = leaf.placement.identity ? part
-                                                       : transformBox(leaf.placement.linear, leaf.placement.offset, part);
+            const Box3 local = leaf.placement.leafFromWorld(part);
             taken.boxPieces.emplace(*b, local);  // none kept: the box is outside the whole part
         }
         in.a = uint32_t(leaves.size());

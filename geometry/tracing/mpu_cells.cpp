@@ -432,7 +432,7 @@ std::optional<CellAcceleration> MpuCellAccelerator::accelerate(const FieldProgra
     // Interpolants (partitioned variational fits) are no polynomials along rays.
     if (field.hasInterpolants()) return std::nullopt;
     const LeafPlacement& placement = leaf->placement;
-    const Box3 leafBox = placement.identity ? box : transformBox(placement.linear, placement.offset, box);
+    const Box3 leafBox = placement.leafFromWorld(box);
     // Beyond the domain the background term is a distance, not a polynomial.
     if (!field.bounds().contains(leafBox)) return std::nullopt;
 

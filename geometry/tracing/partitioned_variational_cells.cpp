@@ -336,7 +336,7 @@ std::optional<CellAcceleration> PartitionedVariationalCellAccelerator::accelerat
     if (!mpu || !mpu->field->hasInterpolants()) return std::nullopt;
     const MpuField& field = *mpu->field;
     const LeafPlacement& placement = leaf->placement;
-    const Box3 leafBox = placement.identity ? box : transformBox(placement.linear, placement.offset, box);
+    const Box3 leafBox = placement.leafFromWorld(box);
     // Beyond the domain the background term is a distance, not a constant.
     if (!field.bounds().contains(leafBox)) return std::nullopt;
     const double tolerance = kRelativeTolerance * surfaceDiagonal / placement.valueScale;

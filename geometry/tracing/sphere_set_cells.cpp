@@ -92,10 +92,6 @@ const SphereSetField* closedFormUnion(const FieldProgram& program, bool& negated
     return set;
 }
 
-Box3 inLeafFrame(const LeafPlacement& placement, const Box3& box) {
-    return placement.identity ? box : transformBox(placement.linear, placement.offset, box);
-}
-
 // A ray's segment in a cell starts up to the trace's resolution before it
 // (ImplicitSurface::intersectCell; 1e-6 of the surface's diagonal): spheres
 // this much farther off are kept too.
@@ -107,7 +103,7 @@ size_t sphereSetCellCost(const FieldProgram& program, const Box3& box) {
     bool negated = false;
     const LeafPlacement* placement = nullptr;
     if (const SphereSetField* set = closedFormUnion(program, negated, placement))
-        return set->countReaching(inLeafFrame(*placement, box));
+        return set->membersReaching(placement->leafFromWorld(box)).size();
     size_t members = 0;
     for (const FieldInstruction& in : program.instructions())
         if (in.op == FieldOp::Leaf)
@@ -124,7 +120,7 @@ std::optional<CellAcceleration> SphereSetCellAccelerator::accelerate(const Field
     // The tracer keeps only the spheres a ray in the cell can meet; the
     // pruned program holds more, those that decide the value there.
     std::vector<uint32_t> reaching =
-        set->membersReaching(inLeafFrame(*placement, box.expanded(kReachMargin * surfaceDiagonal)));
+        set->membersReaching(placement->leafFromWorld(box.expanded(kReachMargin * surfaceDiagonal)));
     CellAcceleration a;
     // No sphere reaches in: the cell is all inside or all outside.
     if (reaching.empty()) return a;
